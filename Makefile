@@ -1,0 +1,37 @@
+# Active Voodoo Dolls -- developer commands. Everything runs inside .venv (made on demand).
+PYTHON ?= python3
+VENV   := .venv
+BIN    := $(VENV)/bin
+STAMP  := $(VENV)/.installed-$(shell cat requirements.txt requirements-dev.txt | cksum | cut -d' ' -f1)
+
+.PHONY: setup mesa test demo bench lint extension clean
+
+setup: $(STAMP)
+
+$(STAMP): requirements.txt requirements-dev.txt
+	$(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install -q --upgrade pip
+	$(BIN)/python -m pip install -q -r requirements-dev.txt
+	rm -f $(VENV)/.installed-*
+	touch $@
+
+mesa:
+	@scripts/ensure_mesa.sh
+
+## Run the whole test suite (engine + real Blender, headless).
+test: setup mesa
+	$(BIN)/python -m pytest
+
+## Build a blob from the sample take, track it, apply it to the sample characters.
+demo: setup mesa
+	$(BIN)/python scripts/demo.py
+
+## Tracking speed and accuracy (single-threaded), see BENCHMARKS.md.
+bench: setup
+	$(BIN)/python -m voodoo_addon bench
+
+lint: setup
+	$(BIN)/ruff check .
+
+clean:
+	rm -rf out dist wheels .pytest_cache

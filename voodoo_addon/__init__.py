@@ -1,0 +1,69 @@
+"""Active Voodoo Dolls engine: active blobs and their tracker (Isidoro & Sclaroff 1998).
+
+Plain Python (numpy, SciPy, OpenCV, triangle); never imports Blender. Typical use::
+
+    from voodoo_addon import build_blob, Tracker, open_source, track_source
+
+    with open_source("take.mp4") as src:
+        blob = build_blob(src.read_at(0).image, outline_points)
+        src.seek(0)
+        take = track_source(blob, src)
+"""
+
+from .blob import (
+    ActiveBlob,
+    BlobOptions,
+    blob_from_bytes,
+    blob_to_bytes,
+    build_blob,
+    load_blob,
+    save_blob,
+)
+from .contour import load_contour_json, save_contour_json, simplify_contour, validate_contour
+from .errors import VoodooError
+from .images import read_image, to_float_rgb
+from .interpolants import GaussianInterpolant
+from .norms import LorentzianNorm, QuadraticNorm, RobustNorm
+from .params import ParamLayout
+from .segment import mask_contour, segment_contour, segment_mask
+from .sources import FrameSource, open_source
+from .take import Take, load_take, save_take, track_source
+from .tracker import Tracker, TrackerOptions, TrackResult
+from .warp import CpuWarp, WarpBackend, WarpGeometry
+
+__all__ = [
+    "ActiveBlob",
+    "BlobOptions",
+    "CpuWarp",
+    "FrameSource",
+    "GaussianInterpolant",
+    "LorentzianNorm",
+    "ParamLayout",
+    "QuadraticNorm",
+    "RobustNorm",
+    "Take",
+    "TrackResult",
+    "Tracker",
+    "TrackerOptions",
+    "VoodooError",
+    "WarpBackend",
+    "WarpGeometry",
+    "blob_from_bytes",
+    "blob_to_bytes",
+    "build_blob",
+    "load_blob",
+    "load_contour_json",
+    "load_take",
+    "mask_contour",
+    "open_source",
+    "read_image",
+    "save_blob",
+    "save_contour_json",
+    "save_take",
+    "segment_contour",
+    "segment_mask",
+    "simplify_contour",
+    "to_float_rgb",
+    "track_source",
+    "validate_contour",
+]

@@ -1,0 +1,188 @@
+"""Command line: ``python -m voodoo_addon {blob,track,segment,bench,synth} ...``.
+
+Bad input exits with status 2 and one line on stderr; see DESIGN.md for the contract.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from .errors import VoodooError
+
+
+def _blob_options(args):
+    from .blob import BlobOptions
+
+    return BlobOptions(
+        n_modes=args.modes,
+        min_angle=args.min_angle,
+        max_area=args.max_area,
+        poly_degree=args.poly_degree,
+    )
+
+
+def _add_blob_args(p):
+    p.add_argument("--modes", type=int, default=14, help="elastic modes (default 14)")
+    p.add_argument("--min-angle", type=float, default=25.0, help="smallest triangle angle, degrees")
+    p.add_argument("--max-area", type=float, default=None, help="largest triangle, square pixels")
+    p.add_argument(
+        "--poly-degree",
+        type=int,
+        default=3,
+        help="polynomial tiers of the mode basis (0: plain FE vibration modes)",
+    )
+
+
+def cmd_blob(args) -> int:
+    from .blob import build_blob, save_blob
+    from .contour import load_contour_json
+    from .images import read_image, write_image
+    from .preview import modes_picture
+
+    frame = read_image(args.frame)
+    blob = build_blob(frame, load_contour_json(args.contour), _blob_options(args))
+    save_blob(args.out, blob)
+    for w in blob.warnings:
+        print(f"warning: {w}", file=sys.stderr)
+    if args.preview:
+        write_image(args.preview, modes_picture(frame, blob))
+    print(
+        f"blob: {blob.n_nodes} nodes, {len(blob.triangles)} triangles, {blob.n_pixels} pixels, "
+        f"{blob.n_modes} modes ({', '.join(blob.labels)}) -> {args.out}"
+    )
+    return 0
+
+
+def cmd_track(args) -> int:
+    from .blob import build_blob, load_blob
+    from .contour import load_contour_json
+    from .sources import open_source
+    from .take import ProgressBar, save_take, track_source
+    from .tracker import Tracker
+
+    with open_source(args.video) as src:
+        if args.blob:
+            blob = load_blob(args.blob)
+        else:
+            blob = build_blob(
+                src.read_at(0).image, load_contour_json(args.contour), _blob_options(args)
+            )
+            src.seek(0)
+        tracker = Tracker(blob, frozen=args.freeze or ())
+        long_clip = src.count is None or src.count > 30
+        bar = ProgressBar(src.count) if long_clip and not args.quiet else None
+        take = track_source(blob, src, tracker, progress=bar, limit=args.frames)
+    save_take(args.out, take)
+    n_lost = int(take.lost.sum())
+    msg = f"track: {len(take)} frames, mean confidence {take.confidence.mean():.2f}"
+    if n_lost:
+        msg += f", blob lost in {n_lost} frame(s)"
+    print(msg + f" -> {args.out}")
+    return 0
+
+
+def cmd_segment(args) -> int:
+    from .contour import save_contour_json
+    from .images import read_image, to_uint8_bgr, write_image
+    from .preview import draw_outline
+    from .segment import segment_contour
+
+    frame = read_image(args.frame)
+    contour = segment_contour(frame, point=args.point, box=args.box)
+    save_contour_json(args.out, contour)
+    if args.preview:
+        canvas = to_uint8_bgr(frame)
+        draw_outline(canvas, contour)
+        write_image(args.preview, canvas)
+    print(f"segment: outline of {len(contour)} points -> {args.out}")
+    return 0
+
+
+def cmd_bench(args) -> int:
+    from .bench import run_bench
+
+    report = run_bench(quick=args.quick, progress=not args.json)
+    if args.json:
+        print(json.dumps(report))
+    return 0
+
+
+def cmd_synth(args) -> int:
+    from .contour import save_contour_json
+    from .synthetic import write_scenario
+
+    contour = write_scenario(args.scenario, args.out, frames=args.frames, size=tuple(args.size))
+    if args.contour:
+        save_contour_json(args.contour, contour)
+    print(f"synth: {args.scenario} take of {args.frames} frames -> {args.out}")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="python -m voodoo_addon", description=__doc__.splitlines()[0])
+    sub = p.add_subparsers(dest="command", required=True)
+
+    b = sub.add_parser("blob", help="build an active blob from a frame and an outline")
+    b.add_argument("frame", help="picture (or video: its first frame)")
+    b.add_argument("--contour", required=True, help='JSON {"points": [[x, y], ...]}')
+    b.add_argument("--out", required=True, help="blob file to write (.npz)")
+    b.add_argument("--preview", help="PNG of the mesh and the modes")
+    _add_blob_args(b)
+    b.set_defaults(func=cmd_blob)
+
+    t = sub.add_parser("track", help="track a blob through a video")
+    t.add_argument("video", help="video file, picture folder, or camera:N")
+    t.add_argument("--contour", help="outline on the first frame (JSON)")
+    t.add_argument("--blob", help="use this blob file instead of building one")
+    t.add_argument("--out", required=True, help="take file to write (.npz)")
+    t.add_argument("--freeze", nargs="*", help="parameters held fixed, e.g. rotate scale")
+    t.add_argument("--frames", type=int, help="stop after this many frames (needed for cameras)")
+    t.add_argument("--quiet", action="store_true", help="no progress bar")
+    _add_blob_args(t)
+    t.set_defaults(func=cmd_track)
+
+    s = sub.add_parser("segment", help="find an object's outline automatically")
+    s.add_argument("frame")
+    g = s.add_mutually_exclusive_group(required=True)
+    g.add_argument("--point", type=float, nargs=2, metavar=("X", "Y"), help="a point on the object")
+    g.add_argument(
+        "--box", type=float, nargs=4, metavar=("X0", "Y0", "X1", "Y1"), help="a box around it"
+    )
+    s.add_argument("--out", required=True, help="outline JSON to write")
+    s.add_argument("--preview", help="PNG with the outline drawn")
+    s.set_defaults(func=cmd_segment)
+
+    e = sub.add_parser("bench", help="tracking speed and accuracy, single-threaded")
+    e.add_argument("--json", action="store_true", help="print one JSON line")
+    e.add_argument("--quick", action="store_true", help="short sequences (smoke test)")
+    e.set_defaults(func=cmd_bench)
+
+    y = sub.add_parser("synth", help="write a synthetic take with known motion")
+    y.add_argument("scenario")
+    y.add_argument("--out", required=True, help="video file (.mp4/.avi) or folder")
+    y.add_argument("--contour", help="write the blob outline here (JSON)")
+    y.add_argument("--frames", type=int, default=48)
+    y.add_argument("--size", type=int, nargs=2, default=(320, 240), metavar=("W", "H"))
+    y.set_defaults(func=cmd_synth)
+    return p
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
+    if args.command == "track" and not (args.contour or args.blob):
+        print("error: track needs --contour (or --blob)", file=sys.stderr)
+        return 2
+    try:
+        return args.func(args)
+    except VoodooError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,317 @@
+"""Closed contours: validation and tolerance-band simplification (paper §7).
+
+A contour is a closed polygon in pixel coordinates (OpenCV convention: origin at the centre
+of the top-left pixel, x right, y down), stored without repeating the first point, and
+oriented counter-clockwise *as seen on screen* (y down), i.e. with a negative signed area in
+the (x, y) algebra below. Everything that builds meshes from user input goes through
+:func:`validate_contour` first, so a bad sketch never reaches the triangulator.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from .errors import VoodooError
+
+#: Polygons smaller than this many square pixels cannot carry a texture worth tracking.
+MIN_AREA_PX = 50.0
+
+
+def signed_area(points: np.ndarray) -> float:
+    """Shoelace area of a closed polygon.
+
+    Parameters
+    ----------
+    points : (n, 2) float64
+        Vertices, first point not repeated.
+
+    Returns
+    -------
+    float
+        Positive when the vertices run counter-clockwise in a y-up frame.
+    """
+    x, y = points[:, 0], points[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+
+def _segments_intersect(points: np.ndarray) -> tuple[int, int] | None:
+    """First pair of non-adjacent edges of a closed polygon that touch or cross.
+
+    Vectorised O(n^2) test (n is at most a few hundred after simplification).
+
+    Returns
+    -------
+    (i, j) or None
+        Edge i runs from point i to point i+1 (mod n).
+    """
+    n = len(points)
+    p = points
+    q = np.roll(points, -1, axis=0)
+    d = q - p  # (n, 2) edge vectors
+
+    def cross(a, b):
+        return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+    # Orientation of every edge j's endpoints relative to every edge i: (n, n)
+    r_pj = p[None, :, :] - p[:, None, :]
+    r_qj = q[None, :, :] - p[:, None, :]
+    o1 = cross(d[:, None, :], r_pj)
+    o2 = cross(d[:, None, :], r_qj)
+    r_pi = p[:, None, :] - p[None, :, :]
+    r_qi = q[:, None, :] - p[None, :, :]
+    o3 = cross(d[None, :, :], r_pi)
+    o4 = cross(d[None, :, :], r_qi)
+    scale = max(float(np.ptp(points, axis=0).max()), 1.0)
+    eps = 1e-9 * scale * scale
+    crossing = (o1 * o2 <= eps) & (o3 * o4 <= eps)
+    # Collinear overlapping edges pass the test above with all four products 0; keep them
+    # only when their projections actually overlap.
+    collinear = (np.abs(o1) <= eps) & (np.abs(o2) <= eps)
+    if collinear.any():
+        t_p = np.einsum("ijk,ik->ij", r_pj, d)
+        t_q = np.einsum("ijk,ik->ij", r_qj, d)
+        len2 = np.einsum("ik,ik->i", d, d)[:, None]
+        overlap = (np.maximum(t_p, t_q) >= 0) & (np.minimum(t_p, t_q) <= len2)
+        crossing &= ~collinear | overlap
+    idx = np.arange(n)
+    adjacent = (
+        (idx[:, None] == idx[None, :])
+        | ((idx[:, None] + 1) % n == idx[None, :])
+        | ((idx[None, :] + 1) % n == idx[:, None])
+    )
+    crossing &= ~adjacent
+    hits = np.argwhere(np.triu(crossing))
+    if len(hits):
+        return int(hits[0, 0]), int(hits[0, 1])
+    return None
+
+
+def validate_contour(
+    points, frame_size: tuple[int, int] | None = None, min_area: float = MIN_AREA_PX
+) -> np.ndarray:
+    """Check a user polygon and return it cleaned and oriented.
+
+    Parameters
+    ----------
+    points : array_like (n, 2)
+        Polygon vertices in pixel coordinates; the closing point may be repeated.
+    frame_size : (width, height), optional
+        When given, every point must lie on the frame (within half a pixel of its border).
+    min_area : float
+        Smallest acceptable area in square pixels.
+
+    Returns
+    -------
+    (k, 2) float64
+        Distinct consecutive vertices, counter-clockwise on screen.
+
+    Raises
+    ------
+    VoodooError
+        With a message that says how to fix the outline.
+    """
+    try:
+        pts = np.asarray(points, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise VoodooError(f"The contour is not a list of [x, y] points ({exc}).") from None
+    if pts.ndim != 2 or pts.shape[1] != 2:
+        raise VoodooError(
+            f"The contour must be a list of [x, y] points; got an array of shape {pts.shape}."
+        )
+    if not np.isfinite(pts).all():
+        raise VoodooError("The contour has NaN or infinite coordinates; redraw the outline.")
+    # Drop consecutive duplicates (including a repeated closing point).
+    keep = np.ones(len(pts), dtype=bool)
+    if len(pts) > 1:
+        keep[1:] = np.any(np.abs(np.diff(pts, axis=0)) > 1e-9, axis=1)
+    pts = pts[keep]
+    if len(pts) > 1 and np.allclose(pts[0], pts[-1], atol=1e-9):
+        pts = pts[:-1]
+    n_distinct = len(np.unique(np.round(pts, 9), axis=0))
+    if n_distinct < 3:
+        raise VoodooError(
+            f"The contour has {n_distinct} distinct point(s); outline the region with at "
+            "least 3 points around it."
+        )
+    if frame_size is not None:
+        w, h = frame_size
+        outside = (
+            (pts[:, 0] < -0.5) | (pts[:, 1] < -0.5) | (pts[:, 0] > w - 0.5) | (pts[:, 1] > h - 0.5)
+        )
+        if outside.any():
+            x, y = pts[np.argmax(outside)]
+            raise VoodooError(
+                f"Contour point ({x:.1f}, {y:.1f}) lies outside the {w}x{h} frame; keep the "
+                "outline inside the picture."
+            )
+    area = signed_area(pts)
+    if abs(area) < min_area:
+        raise VoodooError(
+            f"The contour encloses only {abs(area):.1f} square pixels (at least {min_area:g} "
+            "are needed); outline a larger region of the object."
+        )
+    hit = _segments_intersect(pts)
+    if hit is not None:
+        i, j = hit
+        raise VoodooError(
+            f"The contour crosses itself (edge {i} meets edge {j}); redraw it as a simple "
+            "loop that does not cross over."
+        )
+    # y points down on screen, so a positive shoelace area is clockwise on screen.
+    if area > 0:
+        pts = pts[::-1].copy()
+    return pts
+
+
+def _point_segment_distance(pts: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distance of each point (k, 2) from the segment a-b."""
+    ab = b - a
+    denom = float(ab @ ab)
+    if denom == 0.0:
+        return np.linalg.norm(pts - a, axis=1)
+    t = np.clip((pts - a) @ ab / denom, 0.0, 1.0)
+    return np.linalg.norm(pts - (a + t[:, None] * ab), axis=1)
+
+
+def _subdivide(points: np.ndarray, tol: float) -> list[int]:
+    """Recursive subdivision (Douglas–Peucker) of an open polyline; kept indices."""
+    keep = [0, len(points) - 1]
+    stack = [(0, len(points) - 1)]
+    while stack:
+        i, j = stack.pop()
+        if j <= i + 1:
+            continue
+        d = _point_segment_distance(points[i + 1 : j], points[i], points[j])
+        k = int(np.argmax(d))
+        if d[k] > tol:
+            m = i + 1 + k
+            keep.append(m)
+            stack.extend([(i, m), (m, j)])
+    return sorted(keep)
+
+
+def _merge(points: np.ndarray, tol: float) -> np.ndarray:
+    """Tolerance-band merging: drop vertices lying within ``tol`` of their neighbours' chord.
+
+    Vertices are removed one at a time, smallest deviation first, so the band is respected
+    with respect to the *current* neighbours.
+    """
+    pts = [tuple(p) for p in points]
+    changed = True
+    while changed and len(pts) > 3:
+        changed = False
+        arr = np.asarray(pts)
+        prev = np.roll(arr, 1, axis=0)
+        nxt = np.roll(arr, -1, axis=0)
+        ab = nxt - prev
+        length = np.linalg.norm(ab, axis=1)
+        length[length == 0] = 1.0
+        dev = np.abs(ab[:, 0] * (arr[:, 1] - prev[:, 1]) - ab[:, 1] * (arr[:, 0] - prev[:, 0]))
+        dev /= length
+        k = int(np.argmin(dev))
+        if dev[k] <= tol:
+            del pts[k]
+            changed = True
+    return np.asarray(pts, dtype=np.float64)
+
+
+def simplify_contour(points: np.ndarray, tolerance: float = 1.0, passes: int = 2) -> np.ndarray:
+    """Tolerance-band simplification of a closed polygon (paper §7, after Jain et al.).
+
+    Recursive subdivision (Douglas–Peucker, split at the two mutually farthest vertices)
+    alternates with a merging pass that removes vertices closer than ``tolerance`` to the
+    chord of their neighbours. A user sketch needs one merging pass; a pixel chain from
+    contour following needs the subdivision first.
+
+    Parameters
+    ----------
+    points : (n, 2) float64
+        Closed polygon, first point not repeated.
+    tolerance : float
+        Band half-width in pixels.
+    passes : int
+        Subdivision/merge rounds.
+
+    Returns
+    -------
+    (k, 2) float64
+        The simplified polygon, k >= 3.
+    """
+    pts = np.asarray(points, dtype=np.float64)
+    if len(pts) <= 3 or tolerance <= 0:
+        return pts.copy()
+    for _ in range(passes):
+        n_before = len(pts)
+        # Split the loop at vertex 0 and the vertex farthest from it; simplify both halves.
+        far = int(np.argmax(np.linalg.norm(pts - pts[0], axis=1)))
+        if far == 0:
+            return pts[:3].copy()
+        first = pts[: far + 1]
+        second = np.vstack([pts[far:], pts[:1]])
+        k1 = _subdivide(first, tolerance)
+        k2 = _subdivide(second, tolerance)
+        pts = np.vstack([first[k1[:-1]], second[k2[:-1]]])
+        pts = _merge(pts, tolerance)
+        if len(pts) == n_before:
+            break
+    return pts
+
+
+def resample_contour(points: np.ndarray, spacing: float) -> np.ndarray:
+    """Insert vertices so that no edge of the closed polygon is longer than ``spacing``.
+
+    Parameters
+    ----------
+    points : (n, 2) float64
+    spacing : float
+        Longest allowed edge, pixels.
+
+    Returns
+    -------
+    (k, 2) float64
+    """
+    out = []
+    n = len(points)
+    for i in range(n):
+        a, b = points[i], points[(i + 1) % n]
+        pieces = max(1, int(np.ceil(np.linalg.norm(b - a) / spacing)))
+        t = np.arange(pieces)[:, None] / pieces
+        out.append(a + t * (b - a))
+    return np.vstack(out)
+
+
+def load_contour_json(path) -> np.ndarray:
+    """Read ``{"points": [[x, y], ...]}`` (the command-line contract).
+
+    Raises
+    ------
+    VoodooError
+        If the file is missing or is not that shape.
+    """
+    path = Path(path)
+    try:
+        data = json.loads(path.read_text())
+    except FileNotFoundError:
+        raise VoodooError(f"Contour file {path} does not exist.") from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise VoodooError(f"Contour file {path} is not readable JSON ({exc}).") from None
+    if not isinstance(data, dict) or "points" not in data:
+        raise VoodooError(f'Contour file {path} must hold {{"points": [[x, y], ...]}}.')
+    return _as_points(data["points"], path)
+
+
+def _as_points(raw, path) -> np.ndarray:
+    try:
+        return np.asarray(raw, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise VoodooError(
+            f'Contour file {path}: "points" must be a list of [x, y] numbers.'
+        ) from None
+
+
+def save_contour_json(path, points: np.ndarray) -> None:
+    """Write a contour in the command-line format."""
+    Path(path).write_text(json.dumps({"points": np.asarray(points).round(3).tolist()}))

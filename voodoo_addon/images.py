@@ -1,0 +1,84 @@
+"""Reading and converting pictures: the engine's images are float32 RGB in [0, 1], (H, W, 3)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from .errors import VoodooError
+
+VIDEO_SUFFIXES = {".mp4", ".avi", ".mov", ".mkv", ".webm", ".m4v", ".mpg", ".mpeg", ".ogv"}
+
+
+def to_float_rgb(image: np.ndarray, bgr: bool = False) -> np.ndarray:
+    """Any 8/16-bit or float picture as float32 RGB in [0, 1].
+
+    Parameters
+    ----------
+    image : (H, W) or (H, W, 3|4) array
+    bgr : bool
+        True when the channels are OpenCV's BGR(A) order.
+
+    Returns
+    -------
+    (H, W, 3) float32
+    """
+    img = np.asarray(image)
+    if img.ndim == 2:
+        img = np.repeat(img[:, :, None], 3, axis=2)
+    if img.ndim != 3 or img.shape[2] not in (3, 4):
+        raise VoodooError(f"Expected an RGB picture, got an array of shape {img.shape}.")
+    img = img[:, :, :3]
+    if bgr:
+        img = img[:, :, ::-1]
+    if img.dtype == np.uint8:
+        out = img.astype(np.float32) / 255.0
+    elif img.dtype == np.uint16:
+        out = img.astype(np.float32) / 65535.0
+    else:
+        out = img.astype(np.float32)
+    out = np.nan_to_num(out, nan=0.0, posinf=1.0, neginf=0.0)
+    return np.ascontiguousarray(np.clip(out, 0.0, 1.0))
+
+
+def to_uint8_bgr(image: np.ndarray) -> np.ndarray:
+    """Float RGB in [0, 1] to OpenCV's uint8 BGR, for writing and drawing."""
+    return np.ascontiguousarray((np.clip(image, 0, 1)[:, :, ::-1] * 255.0 + 0.5).astype(np.uint8))
+
+
+def read_image(path) -> np.ndarray:
+    """Read a picture file, or the first frame of a video file.
+
+    Returns
+    -------
+    (H, W, 3) float32 RGB in [0, 1]
+
+    Raises
+    ------
+    VoodooError
+        If the file is missing or cannot be decoded.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise VoodooError(f"{path} does not exist.")
+    if path.suffix.lower() in VIDEO_SUFFIXES:
+        from .sources import open_source
+
+        with open_source(path) as src:
+            frame = src.read()
+            if frame is None:
+                raise VoodooError(f"{path} holds no readable frame.")
+            return frame.image
+    img = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
+    if img is None:
+        raise VoodooError(f"{path} is not a picture OpenCV can read (PNG, JPEG, TIFF, ...).")
+    return to_float_rgb(img, bgr=img.ndim == 3)
+
+
+def write_image(path, image: np.ndarray) -> None:
+    """Write float RGB in [0, 1] (or uint8 BGR) to a picture file."""
+    img = image if image.dtype == np.uint8 else to_uint8_bgr(image)
+    if not cv2.imwrite(str(path), img):
+        raise VoodooError(f"Could not write the picture {path}.")

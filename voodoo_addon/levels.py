@@ -1,0 +1,254 @@
+"""Pyramid levels of a blob and their difference-decomposition solvers (paper §5.2).
+
+Level ``l`` sees the capture frame at scale ``f = 2^-l`` (OpenCV ``pyrDown``: level pixel
+``i`` sits on level-0 pixel ``2^l i``). Parameters stay in level-0 units at every level; only
+the step sizes ``delta`` of the basis and the pixel units change.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from .blob import ActiveBlob
+from .mesh import TriMesh, rasterize
+from .norms import RobustNorm
+from .params import ParamLayout, node_positions, rotation
+from .warp import WarpBackend, WarpGeometry
+
+#: Parameter steps at every level: translations and modes move the blob by one level pixel
+#: (RMS), rotation and log-scale move its RMS radius by one level pixel; photometric steps are
+#: absolute. Steps of +-delta and +-2 delta form the basis (2 delta ~ the largest change
+#: expected per iteration, §7).
+PHOTOMETRIC_STEP = 0.04
+
+
+def pyramid(image: np.ndarray, levels: int) -> list[np.ndarray]:
+    """``[image, pyrDown(image), ...]`` with ``levels`` entries."""
+    out = [image]
+    for _ in range(levels - 1):
+        out.append(cv2.pyrDown(out[-1]))
+    return out
+
+
+@dataclass(eq=False)
+class Solver:
+    """Precomputed least squares for one level and one set of active parameters.
+
+    Attributes
+    ----------
+    active : (p,) int64
+        Indices into the parameter vector.
+    update : (p, 3n) float32
+        ``N (Bbar^T Bbar + Gamma)^-1 Bbar^T``: maps the robust difference image to ``da``.
+    prior : (p, p) float64
+        ``N (Bbar^T Bbar + Gamma)^-1 gamma' N^T Psi^2``: the regularisation pull on ``a``.
+    jacobian : (3n, p) float32
+        Difference basis collapsed per parameter (least-squares slope over the four steps),
+        for the weighted solve used when parts of the blob are occluded or off the frame.
+    block_gram : (n_blocks, p, p) float64
+        ``J_b^T J_b`` of every pixel block.
+    penalty : (p, p) float64
+        ``gamma' Psi^2 + ridge`` for the weighted solve.
+    reg : (p,) float64
+        ``gamma' psi_j^2`` (zero for unregularised parameters).
+    """
+
+    active: np.ndarray
+    update: np.ndarray
+    prior: np.ndarray
+    jacobian: np.ndarray
+    block_gram: np.ndarray
+    penalty: np.ndarray
+    reg: np.ndarray
+
+
+class Level:
+    """One pyramid level of a blob: template pixels, mode fields, blocks and solvers.
+
+    Parameters
+    ----------
+    blob : ActiveBlob
+    index : int
+        Pyramid level (0 = full resolution).
+    layout : ParamLayout
+    pixel_budget : int or None
+        Use at most about this many template pixels (an even subsample) in the solve.
+    block_grid : int
+        The template's bounding box is cut into ``block_grid^2`` blocks for outlier rejection.
+    """
+
+    def __init__(
+        self,
+        blob: ActiveBlob,
+        index: int,
+        layout: ParamLayout,
+        pixel_budget: int | None = None,
+        block_grid: int = 6,
+    ):
+        self.index = index
+        self.scale = 2.0**-index
+        self.layout = layout
+        f = self.scale
+        self.centre = blob.centre * f
+        self.vertices = blob.vertices * f
+        self.modes = blob.modes[:, : layout.n_modes] * f  # level pixels per unit amplitude
+        self.length = blob.length * f
+        if index == 0:
+            coords, tri, weights = blob.pixel_coords, blob.pixel_triangle, blob.pixel_weights
+        else:
+            ps = rasterize(TriMesh(self.vertices, blob.triangles, blob.boundary))
+            coords, tri, weights = ps.coords, ps.triangle, ps.weights
+        if pixel_budget and len(coords) > pixel_budget:
+            step = int(np.ceil(len(coords) / pixel_budget))
+            coords, tri, weights = coords[::step], tri[::step], weights[::step]
+        self.geometry = WarpGeometry(self.vertices, blob.triangles, coords, tri, weights)
+        # Texture of this level: the blob's blurred crop taken down the same pyramid.
+        origin = blob.texture_origin.astype(np.float64)
+        tex = pyramid(blob.texture, index + 1)[-1]
+        self.texture = tex
+        self.texture_origin = origin * f
+        local = (coords - self.texture_origin).round().astype(np.int64)
+        local = np.clip(local, 0, np.array(tex.shape[1::-1]) - 1)
+        self.template = np.ascontiguousarray(tex[local[:, 1], local[:, 0]])  # (n, 3) float32
+        # Mode displacement of every template pixel: (2n, k), interleaved like positions.
+        corner = self.modes.reshape(-1, 2, layout.n_modes)[blob.triangles[tri]]  # (n,3,2,k)
+        pix_modes = np.einsum("pj,pjdk->pdk", weights, corner).reshape(-1, layout.n_modes)
+        self.pixel_modes = np.ascontiguousarray(pix_modes, dtype=np.float32)  # (2n, k)
+        self.base = (coords - self.centre).astype(np.float32)  # (n, 2)
+        # Pixel blocks for outlier rejection.
+        lo, hi = coords.min(axis=0), coords.max(axis=0) + 1
+        cell = np.floor((coords - lo) / (hi - lo) * block_grid).astype(np.int64)
+        raw = cell[:, 1] * block_grid + cell[:, 0]
+        _, self.block = np.unique(raw, return_inverse=True)
+        self.n_blocks = int(self.block.max()) + 1
+        self.block_size = np.bincount(self.block, minlength=self.n_blocks).astype(np.float64)
+        self._solvers: dict[tuple, Solver] = {}
+
+    def __len__(self) -> int:
+        return len(self.geometry.coords)
+
+    # ------------------------------------------------------------------ warping
+
+    def positions(self, a: np.ndarray) -> np.ndarray:
+        """Template pixels under the warp ``a``, level coordinates (n, 2) float32."""
+        lay = self.layout
+        local = self.base
+        if lay.n_modes:
+            amp = a[lay.modes].astype(np.float32)
+            local = local + (self.pixel_modes @ amp).reshape(-1, 2)
+        r = (np.exp(a[3]) * rotation(a[2])).astype(np.float32)
+        return local @ r.T + (self.centre + a[:2] * self.scale).astype(np.float32)
+
+    def nodes(self, a: np.ndarray) -> np.ndarray:
+        """Mesh nodes under the warp ``a``, level coordinates (m, 2)."""
+        shifted = a.copy()
+        shifted[:2] *= self.scale
+        return node_positions(shifted, self.layout, self.vertices, self.modes, self.centre)
+
+    # ------------------------------------------------------------------ basis
+
+    def steps(self) -> np.ndarray:
+        """``delta`` per parameter (P,), level-0 units, for this level."""
+        lay = self.layout
+        d = np.full(lay.size, PHOTOMETRIC_STEP)
+        d[:2] = 1.0 / self.scale
+        d[2:4] = 1.0 / self.length
+        d[lay.modes] = 1.0 / self.scale
+        return d
+
+    def basis(self, backend: WarpBackend, active: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Difference images (Eq. 11) for +-delta, +-2 delta of every active parameter.
+
+        Returns
+        -------
+        B : (3n, 4p) float64
+            Columns ``I0 - W(I0, n_k)``.
+        N : (p, 4p) float64
+            Parameter displacement of each column (within the active parameters).
+        """
+        lay = self.layout
+        delta = self.steps()
+        steps = (-2.0, -1.0, 1.0, 2.0)
+        n = len(self)
+        b = np.empty((3 * n, 4 * len(active)))
+        nmat = np.zeros((len(active), 4 * len(active)))
+        backend.bind(self.texture)
+        i0 = self.template.astype(np.float64)
+        bright = set(range(lay.size)[lay.brightness])
+        contrast = set(range(lay.size)[lay.contrast])
+        n_ch = len(bright)
+        for j, k in enumerate(active):
+            for s_i, s in enumerate(steps):
+                col = 4 * j + s_i
+                step = s * delta[k]
+                nmat[j, col] = step
+                if k in bright:
+                    diff = np.zeros((n, 3))
+                    ch = slice(None) if n_ch == 1 else sorted(bright).index(k)
+                    diff[:, ch] = -step
+                elif k in contrast:
+                    diff = np.zeros((n, 3))
+                    ch = slice(None) if n_ch == 1 else sorted(contrast).index(k)
+                    diff[:, ch] = i0[:, ch] * (1.0 - np.exp(step))
+                else:
+                    a = lay.identity()
+                    a[k] = -step  # the frame moved by +step looks like the template moved back
+                    pos = self.positions(a) - self.texture_origin
+                    nodes = self.nodes(a) - self.texture_origin
+                    diff = i0 - backend.sample(self.geometry, nodes, pos)
+                b[:, col] = diff.ravel()
+        return b, nmat
+
+    def solver(
+        self,
+        backend: WarpBackend,
+        active,
+        norm: RobustNorm,
+        gamma: float,
+        penalties: np.ndarray,
+    ) -> Solver:
+        """The precomputed solve for ``active`` parameters (cached per set)."""
+        active = np.asarray(sorted(active), dtype=np.int64)
+        key = (tuple(active), float(gamma), norm.key)
+        if key in self._solvers:
+            return self._solvers[key]
+        b, nmat = self.basis(backend, active)
+        bbar = norm.transform(b)  # Eq. 16
+        rows = bbar.shape[0]
+        # Regularisation (Eq. 10): gamma * mean robust error is matched by gamma' on the sums.
+        psi2 = np.zeros(len(active))
+        lay = self.layout
+        for j, k in enumerate(active):
+            if lay.modes.start <= k < lay.modes.stop:
+                psi2[j] = penalties[k - lay.modes.start]
+        gam = gamma * rows
+        gram = bbar.T @ bbar
+        ridge = 1e-6 * np.trace(gram) / len(gram)
+        lhs = gram + gam * nmat.T @ (psi2[:, None] * nmat) + ridge * np.eye(len(gram))
+        inv_lhs = np.linalg.inv(lhs)
+        update = nmat @ inv_lhs @ bbar.T
+        prior = nmat @ inv_lhs @ (gam * nmat.T * psi2[None, :])
+        # Collapsed basis (least-squares slope over the steps) for the weighted solve.
+        denom = (nmat**2).sum(axis=1)  # (p,)
+        jac = bbar @ nmat.T / denom
+        pix_block = np.repeat(self.block, 3)
+        block_gram = np.zeros((self.n_blocks, len(active), len(active)))
+        for blk in range(self.n_blocks):
+            jb = jac[pix_block == blk]
+            block_gram[blk] = jb.T @ jb
+        jgram = block_gram.sum(axis=0)
+        penalty = np.diag(gam * psi2) + 1e-6 * np.trace(jgram) / len(jgram) * np.eye(len(active))
+        solver = Solver(
+            active=active,
+            update=np.ascontiguousarray(update, dtype=np.float32),
+            prior=prior,
+            jacobian=np.ascontiguousarray(jac, dtype=np.float32),
+            block_gram=block_gram,
+            penalty=penalty,
+            reg=gam * psi2,
+        )
+        self._solvers[key] = solver
+        return solver

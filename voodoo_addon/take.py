@@ -1,0 +1,193 @@
+"""Tracking a whole source into a take, and the take's file (the command-line contract)."""
+
+from __future__ import annotations
+
+import sys
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .blob import ActiveBlob
+from .errors import VoodooError
+from .sources import FrameSource
+from .tracker import Tracker
+
+TAKE_KIND = "voodoo-take"
+TAKE_VERSION = 1
+
+
+@dataclass(frozen=True, eq=False)
+class Take:
+    """The tracked motion of one blob through a source.
+
+    Attributes
+    ----------
+    vertices : (T, m, 2) float64
+        Mesh nodes in every frame, pixel coordinates (OpenCV convention).
+    triangles : (t, 3) int32
+    params : (T, P) float64
+        Parameter vectors (see :mod:`voodoo_addon.params`); held at the last good value on
+        lost frames.
+    confidence : (T,) float64
+        In [0, 1].
+    lost : (T,) bool
+    param_names : (P,) str
+        Names of the parameters ("translate-x", ..., mode labels, photometric terms).
+    frame_indices : (T,) int64
+        Source frame of each row.
+    times : (T,) float64
+        Seconds (file: index / fps; camera: capture time).
+    fps : float
+    iterations : (T,) int64
+    """
+
+    vertices: np.ndarray
+    triangles: np.ndarray
+    params: np.ndarray
+    confidence: np.ndarray
+    lost: np.ndarray
+    param_names: np.ndarray
+    frame_indices: np.ndarray
+    times: np.ndarray
+    fps: float
+    iterations: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.params)
+
+
+def save_take(path, take: Take) -> None:
+    """Write a take as ``.npz`` (no pickles).
+
+    Holds the contract's ``vertices``, ``triangles``, ``params``, ``confidence`` and
+    ``mode_labels`` (the parameter names), plus ``lost``, ``frame_indices``, ``times``, ``fps``,
+    ``iterations`` and a format header.
+    """
+    try:
+        np.savez_compressed(
+            path,
+            format_kind=np.array(TAKE_KIND),
+            format_version=np.array(TAKE_VERSION),
+            vertices=take.vertices,
+            triangles=take.triangles,
+            params=take.params,
+            confidence=take.confidence,
+            mode_labels=take.param_names.astype(str),
+            lost=take.lost,
+            frame_indices=take.frame_indices,
+            times=take.times,
+            fps=np.array(take.fps),
+            iterations=take.iterations,
+        )
+    except OSError as exc:
+        raise VoodooError(f"Could not write the take to {path} ({exc.strerror}).") from None
+
+
+def load_take(path) -> Take:
+    """Read a take written by :func:`save_take`."""
+    path = Path(path)
+    try:
+        with np.load(path, allow_pickle=False) as npz:
+            d = {k: npz[k] for k in npz.files}
+    except (OSError, ValueError, EOFError) as exc:
+        raise VoodooError(f"{path} is not a readable take file ({exc}).") from None
+    if (
+        str(d.get("format_kind", "")) != TAKE_KIND
+        or int(d.get("format_version", -1)) != TAKE_VERSION
+    ):
+        raise VoodooError(f"{path} is not a Voodoo take of version {TAKE_VERSION}.")
+    return Take(
+        vertices=d["vertices"],
+        triangles=d["triangles"],
+        params=d["params"],
+        confidence=d["confidence"],
+        lost=d["lost"],
+        param_names=d["mode_labels"],
+        frame_indices=d["frame_indices"],
+        times=d["times"],
+        fps=float(d["fps"]),
+        iterations=d["iterations"],
+    )
+
+
+class ProgressBar:
+    """A one-line progress bar on stderr (redrawn in place on a terminal)."""
+
+    def __init__(self, total: int | None, label: str = "tracking", stream=None):
+        self.total = total
+        self.label = label
+        self.stream = stream or sys.stderr
+        self._t0 = time.perf_counter()
+        self._last = -1.0
+        self._tty = bool(getattr(self.stream, "isatty", lambda: False)())
+
+    def __call__(self, done: int) -> None:
+        now = time.perf_counter()
+        final = self.total is not None and done >= self.total
+        if not final and now - self._last < (0.2 if self._tty else 2.0):
+            return
+        self._last = now
+        rate = done / max(now - self._t0, 1e-9)
+        if self.total:
+            frac = min(done / self.total, 1.0)
+            bar = "#" * int(30 * frac) + "-" * (30 - int(30 * frac))
+            text = f"{self.label} [{bar}] {done}/{self.total} frames, {rate:.0f} fps"
+        else:
+            text = f"{self.label}: {done} frames, {rate:.0f} fps"
+        end = "\n" if final or not self._tty else ""
+        self.stream.write(("\r" if self._tty else "") + text + end)
+        self.stream.flush()
+
+
+def track_source(
+    blob: ActiveBlob,
+    source: FrameSource,
+    tracker: Tracker | None = None,
+    progress: Callable[[int], None] | None = None,
+    limit: int | None = None,
+) -> Take:
+    """Track every frame of a source.
+
+    Parameters
+    ----------
+    blob : ActiveBlob
+    source : FrameSource
+        Read from its current position to its end (or ``limit`` frames).
+    tracker : Tracker, optional
+        A configured tracker (a default one otherwise).
+    progress : callable, optional
+        Called with the number of frames done.
+    limit : int, optional
+        Stop after this many frames (needed for live cameras).
+
+    Returns
+    -------
+    Take
+    """
+    tracker = tracker or Tracker(blob)
+    rows = []
+    for frame in source:
+        res = tracker.track(frame.image)
+        rows.append((frame.index, frame.time, res))
+        if progress is not None:
+            progress(len(rows))
+        if limit is not None and len(rows) >= limit:
+            break
+    if not rows:
+        raise VoodooError("The source gave no frames to track.")
+    res_list = [r for _, _, r in rows]
+    return Take(
+        vertices=np.stack([r.nodes for r in res_list]),
+        triangles=blob.triangles.copy(),
+        params=np.stack([r.params for r in res_list]),
+        confidence=np.array([r.confidence for r in res_list]),
+        lost=np.array([r.lost for r in res_list]),
+        param_names=np.array(tracker.parameter_names, dtype=str),
+        frame_indices=np.array([i for i, _, _ in rows], dtype=np.int64),
+        times=np.array([t for _, t, _ in rows]),
+        fps=float(source.fps),
+        iterations=np.array([r.iterations for r in res_list], dtype=np.int64),
+    )

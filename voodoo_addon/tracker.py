@@ -1,0 +1,516 @@
+"""The active-blob tracker: robust difference decomposition, coarse to fine (paper §5).
+
+``Tracker(blob).track(frame)`` registers the blob's template to one frame and returns a
+:class:`TrackResult`. Everything that depends only on the template (the difference bases, their
+regularised pseudo-inverses, block Gram matrices) is computed once per pyramid level and set
+of free parameters; a tracking iteration is one warp, one Eq. 16 transform and one small
+matrix-vector product.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import cv2
+import numpy as np
+
+from .blob import ActiveBlob
+from .errors import VoodooError
+from .levels import Level, Solver, pyramid
+from .norms import LorentzianNorm, RobustNorm
+from .params import ParamLayout, compose, node_positions
+from .reacquire import FeatureMatcher
+from .warp import CpuWarp, WarpBackend
+
+
+@dataclass(frozen=True)
+class TrackerOptions:
+    """Tracker settings; the defaults work without tuning.
+
+    Attributes
+    ----------
+    sigma : float
+        Scale of the Lorentzian norm (Eq. 9), image units.
+    gamma : float
+        Weight of the modal-stiffness prior (Eq. 10) against the mean robust error.
+    photometric : {"channel", "global", "none"}
+        Brightness/contrast model (Eq. 4). Per channel by default: webcams re-balance white
+        and lamps are coloured, so the three channels drift independently.
+    max_levels : int
+        Pyramid levels at most (coarse to fine).
+    min_level_pixels : int
+        A coarser level is only used while its blob keeps this many pixels.
+    max_iterations : int
+        Iteration cap per level and frame.
+    tolerance : float
+        Stop when the robust residual improves by less than this fraction.
+    step_tolerance : float
+        ... or when an update moves no node by more than this many pixels (finest level;
+        coarser levels stop at a quarter of their pixel).
+    fine_capture : float
+        A frame starts at the finest level and drops to the coarse levels only when the
+        first update there moves a node farther than this many pixels.
+    pixel_budget : int or None
+        Template pixels used at full resolution at most (an even subsample beyond).
+    block_grid : int
+        Blocks per side for occlusion rejection.
+    outlier_factor : float
+        A block whose mean robust error exceeds this many times the median block's is
+        treated as occluded for the iteration.
+    lost_below : float
+        A frame whose confidence falls below this is lost.
+    reacquire_above : float
+        While lost, a frame must reach this confidence to count as found again.
+    predict : bool
+        Extrapolate the motion of the last two frames to start each frame.
+    features : bool
+        Re-acquire a lost blob by matching SIFT features against the template.
+    """
+
+    sigma: float = 0.15
+    gamma: float = 1e-4
+    photometric: str = "channel"
+    max_levels: int = 3
+    min_level_pixels: int = 300
+    max_iterations: int = 8
+    tolerance: float = 1e-3
+    step_tolerance: float = 0.02
+    fine_capture: float = 1.5
+    pixel_budget: int | None = 20000
+    block_grid: int = 6
+    outlier_factor: float = 4.0
+    lost_below: float = 0.35
+    reacquire_above: float = 0.5
+    predict: bool = True
+    features: bool = True
+
+
+@dataclass(frozen=True)
+class TrackResult:
+    """One frame's registration.
+
+    Attributes
+    ----------
+    params : (P,) float64
+        Parameter vector (see :mod:`voodoo_addon.params`); the last good one when lost.
+    nodes : (m, 2) float64
+        Mesh nodes in the frame, pixel coordinates.
+    confidence : float
+        In [0, 1]: template/frame correlation times the visible fraction.
+    lost : bool
+        True when the blob was not found in this frame (``params`` are then held).
+    iterations : int
+        Warps evaluated for this frame over all levels.
+    residual : float
+        Mean robust error per template pixel at the finest level.
+    occluded : float
+        Fraction of template pixels rejected as occluded or off the frame.
+    reacquired : bool
+        True on the first good frame after a loss.
+    """
+
+    params: np.ndarray
+    nodes: np.ndarray
+    confidence: float
+    lost: bool
+    iterations: int
+    residual: float
+    occluded: float
+    reacquired: bool = False
+    warnings: tuple = field(default=(), compare=False)
+
+
+@dataclass
+class _Eval:
+    """One evaluation of the warp at one level."""
+
+    samples: np.ndarray  # (n, 3) float32
+    dbar: np.ndarray  # (n, 3) float32 robust differences
+    valid: np.ndarray  # (n,) bool: inside the picture
+    use: np.ndarray  # (n,) bool: taken into the solve (valid, not occluded)
+    block_weight: np.ndarray  # (n_blocks,) 0/1
+    residual: float
+    weighted: bool
+
+
+class Tracker:
+    """Tracks one active blob through frames.
+
+    Parameters
+    ----------
+    blob : ActiveBlob
+    backend : WarpBackend, optional
+        Defaults to :class:`~voodoo_addon.warp.CpuWarp`.
+    options : TrackerOptions, optional
+    norm : RobustNorm, optional
+        Defaults to the Lorentzian of ``options.sigma``.
+    frozen : iterable of str
+        Parameter names held fixed (e.g. ``{"rotate"}`` to track bending with rotation fixed).
+    """
+
+    def __init__(
+        self,
+        blob: ActiveBlob,
+        backend: WarpBackend | None = None,
+        options: TrackerOptions | None = None,
+        norm: RobustNorm | None = None,
+        frozen=(),
+    ):
+        self.blob = blob
+        self.options = opt = options or TrackerOptions()
+        self.backend = backend or CpuWarp()
+        self.norm = norm or LorentzianNorm(opt.sigma)
+        self.layout = ParamLayout(tuple(str(s) for s in blob.labels), opt.photometric)
+        self.levels = [Level(blob, 0, self.layout, opt.pixel_budget, opt.block_grid)]
+        while len(self.levels) < opt.max_levels:
+            nxt = Level(blob, len(self.levels), self.layout, opt.pixel_budget, opt.block_grid)
+            if len(nxt) < opt.min_level_pixels:
+                break
+            self.levels.append(nxt)
+        self.frame_size = tuple(int(v) for v in blob.frame_size)
+        self._floor = 3.0 * float(self.norm.rho(np.array([self.norm.sigma / 2]))[0])
+        self._matcher = FeatureMatcher(blob) if opt.features else None
+        self.set_frozen(frozen)
+        self.reset()
+
+    # ------------------------------------------------------------------ state
+
+    @property
+    def parameter_names(self) -> tuple:
+        return self.layout.names
+
+    def set_frozen(self, names) -> None:
+        """Hold the named parameters at their current values from now on."""
+        idx = set()
+        for name in names:
+            try:
+                idx.add(self.layout.index(name))
+            except KeyError as exc:
+                raise VoodooError(str(exc.args[0])) from None
+        self.frozen = frozenset(idx)
+        for level in self.levels:  # precompute the bases now, not on the first frame
+            self._solver(level)
+
+    def reset(self, params: np.ndarray | None = None) -> None:
+        """Start over from ``params`` (default: the capture pose)."""
+        a = self.layout.identity() if params is None else np.asarray(params, dtype=np.float64)
+        if a.shape != (self.layout.size,) or not np.isfinite(a).all():
+            raise VoodooError("reset() needs a finite parameter vector of the tracker's size.")
+        self.state = a.copy()
+        self._prev = None
+        self.last_good = a.copy()
+        self.lost = False
+
+    def active(self, level: int) -> np.ndarray:
+        """Free parameters at a pyramid level: coarse levels skip the high modes."""
+        lay = self.layout
+        keep_modes = lay.n_modes >> level
+        out = [k for k in range(lay.size) if k not in self.frozen]
+        return np.array(
+            [k for k in out if not (lay.modes.start + keep_modes <= k < lay.modes.stop)],
+            dtype=np.int64,
+        )
+
+    def _solver(self, level: Level) -> Solver:
+        return level.solver(
+            self.backend,
+            self.active(level.index),
+            self.norm,
+            self.options.gamma,
+            self.blob.stiffness_penalty,
+        )
+
+    def nodes(self, a: np.ndarray) -> np.ndarray:
+        """Mesh nodes (m, 2) in frame pixels for parameters ``a``."""
+        return node_positions(
+            a,
+            self.layout,
+            self.blob.vertices,
+            self.blob.modes[:, : self.layout.n_modes],
+            self.blob.centre,
+        )
+
+    # ------------------------------------------------------------------ public
+
+    def track(self, frame: np.ndarray) -> TrackResult:
+        """Register the blob to one frame.
+
+        Parameters
+        ----------
+        frame : (H, W, 3) float32
+            RGB in [0, 1], the capture frame's size.
+
+        Returns
+        -------
+        TrackResult
+        """
+        frame = self._check_frame(frame)
+        opt = self.options
+        was_lost = self.lost
+        start = self.last_good if was_lost else self._predict()
+        need = opt.reacquire_above if was_lost else opt.lost_below
+        a, conf, info = self._register(frame, start, wide=was_lost)
+        warnings = []
+        if conf < need and not was_lost:
+            # Wider search from the last good pose before giving up.
+            a2, c2, i2 = self._register(frame, self.last_good, wide=True)
+            i2["iterations"] += info["iterations"]
+            if c2 > conf:
+                a, conf, info = a2, c2, i2
+        if conf < need and self._matcher is not None:
+            guess = self._matcher.guess(frame, self.blob.centre, self.last_good)
+            if guess is not None:
+                a2, c2, i2 = self._register(frame, guess, wide=True)
+                i2["iterations"] += info["iterations"]
+                if c2 > conf:
+                    a, conf, info = a2, c2, i2
+        if conf >= need:
+            self._prev = None if was_lost else self.state.copy()
+            self.state = a
+            self.last_good = a.copy()
+            self.lost = False
+            params = a
+        else:
+            self.lost = True
+            self.state = self.last_good.copy()
+            self._prev = None
+            params = self.last_good.copy()
+            warnings.append("The blob is lost: holding its last good pose.")
+        return TrackResult(
+            params=params.copy(),
+            nodes=self.nodes(params),
+            confidence=float(conf),
+            lost=self.lost,
+            iterations=int(info["iterations"]),
+            residual=float(info["residual"]),
+            occluded=float(info["occluded"]),
+            reacquired=bool(was_lost and not self.lost),
+            warnings=tuple(warnings),
+        )
+
+    # ------------------------------------------------------------------ internals
+
+    def _check_frame(self, frame: np.ndarray) -> np.ndarray:
+        frame = np.asarray(frame)
+        if frame.ndim != 3 or frame.shape[2] != 3:
+            raise VoodooError(f"A frame must be an RGB picture; got shape {frame.shape}.")
+        if frame.dtype != np.float32:
+            raise VoodooError("Frames must be float32 RGB in [0, 1] (see images.to_float_rgb).")
+        h, w = frame.shape[:2]
+        if (w, h) != self.frame_size:
+            raise VoodooError(
+                f"This frame is {w}x{h} but the blob was built on a {self.frame_size[0]}x"
+                f"{self.frame_size[1]} frame; use the same camera mode or clip."
+            )
+        return frame
+
+    def _predict(self) -> np.ndarray:
+        a = self.state.copy()
+        if self.options.predict and self._prev is not None:
+            lay = self.layout
+            vel = self.state - self._prev
+            a[:4] += vel[:4]
+            a[lay.modes] += 0.5 * vel[lay.modes]
+        return a
+
+    def _frame_pyramid(self, frame: np.ndarray, a: np.ndarray, wide: bool):
+        """Blurred pyramid of the region around the blob at ``a`` (all of it when wide)."""
+        h, w = frame.shape[:2]
+        align = 2 ** (len(self.levels) - 1)
+        if wide:
+            x0 = y0 = 0
+            x1, y1 = w, h
+        else:
+            nodes = self.nodes(a)
+            lo, hi = nodes.min(axis=0), nodes.max(axis=0)
+            margin = max(0.3 * float((hi - lo).max()), 12.0 * align)
+            x0 = int(np.clip(np.floor((lo[0] - margin) / align) * align, 0, w))
+            y0 = int(np.clip(np.floor((lo[1] - margin) / align) * align, 0, h))
+            x1 = int(np.clip(np.ceil(hi[0] + margin) + 1, 0, w))
+            y1 = int(np.clip(np.ceil(hi[1] + margin) + 1, 0, h))
+            if x1 - x0 < 8 or y1 - y0 < 8:
+                return None
+        roi = frame[y0:y1, x0:x1]
+        sigma = self.blob.blur_sigma
+        if sigma > 0:
+            roi = cv2.GaussianBlur(roi, (0, 0), sigma, borderType=cv2.BORDER_REFLECT)
+        return pyramid(np.ascontiguousarray(roi), len(self.levels)), np.array([x0, y0], float)
+
+    def _register(self, frame: np.ndarray, start: np.ndarray, wide: bool):
+        """Register from ``start``; returns (params, confidence, info).
+
+        When not searching wide, the finest level is tried first: if its first update is
+        small the prediction was good and the coarse levels are skipped; otherwise the
+        estimate restarts from ``start`` coarse to fine.
+        """
+        info = {"iterations": 0, "residual": np.inf, "occluded": 1.0}
+        if not np.isfinite(start).all():
+            return start, 0.0, info
+        pyr = self._frame_pyramid(frame, start, wide)
+        if pyr is None:
+            return start, 0.0, info
+        images, origin = pyr
+        order = list(reversed(self.levels))
+        a, last = start.copy(), None
+        if not wide and len(order) > 1:
+            a, last, its = self._iterate(self.levels[0], images[0], a, origin, bail=True)
+            info["iterations"] += its
+            if last is not None:
+                order = []
+            else:
+                a = start.copy()
+        for level in order:
+            cap = self.options.max_iterations * (3 if wide and level.index else 1)
+            a, last, its = self._iterate(level, images[level.index], a, origin, cap=cap)
+            info["iterations"] += its
+            if last is None:
+                return start, 0.0, info
+        if not self._plausible(a):
+            return start, 0.0, info
+        info["residual"] = last.residual
+        info["occluded"] = 1.0 - float(np.count_nonzero(last.use)) / len(last.use)
+        return a, self._confidence(self.levels[0], last), info
+
+    def _iterate(self, level: Level, image, a, origin, cap=None, bail=False):
+        """Iterate difference decomposition at one level.
+
+        Returns (params, last evaluation or None, evaluations). With ``bail``, gives up
+        (returning None) when the first update is too large for this level.
+        """
+        opt = self.options
+        solver = self._solver(level)  # may build a basis (which binds the template) first
+        self.backend.bind(image)
+        org = (origin * level.scale).astype(np.float32)
+        box = np.array([image.shape[1] - 1, image.shape[0] - 1], dtype=np.float32)
+        tol = opt.step_tolerance if level.index == 0 else 0.25 / level.scale
+        act = solver.active
+        best_a, best = a, None
+        nodes_a = self.nodes(a)
+        its = 0
+        for _ in range(cap or opt.max_iterations):
+            ev = self._evaluate(level, a, org, box)
+            its += 1
+            if ev is None:
+                break
+            if best is not None:
+                if ev.residual > best.residual and ev.weighted == best.weighted:
+                    break  # got worse: keep the previous estimate
+                gain = (best.residual - ev.residual) / max(best.residual, 1e-12)
+                best_a, best = a, ev
+                if gain < opt.tolerance:
+                    break
+            else:
+                best_a, best = a, ev
+            delta_act = self._solve(solver, level, ev, a[act])
+            if not np.isfinite(delta_act).all():
+                break
+            delta = np.zeros_like(a)
+            delta[act] = delta_act
+            new = compose(a, delta, self.layout)
+            nodes_new = self.nodes(new)
+            step = float(np.abs(nodes_new - nodes_a).max())
+            if bail and its == 1 and step > opt.fine_capture:
+                return a, None, its
+            a, nodes_a = new, nodes_new
+            if step < tol:
+                best_a = a
+                break
+        return best_a, best, its
+
+    def _evaluate(self, level: Level, a, origin, box) -> _Eval | None:
+        pos = level.positions(a)
+        pos -= origin
+        x, y = pos[:, 0], pos[:, 1]
+        valid = (x >= 0) & (y >= 0) & (x <= box[0]) & (y <= box[1])
+        n_valid = int(np.count_nonzero(valid))
+        if n_valid < 0.15 * len(valid):
+            return None
+        samples = self.backend.sample(level.geometry, level.nodes(a) - origin, pos)
+        c, b = self.layout.channel_gain_offset(a)
+        d = level.template - (samples - b.astype(np.float32)) * (1.0 / c).astype(np.float32)
+        dbar = self.norm.transform(d)
+        loss = np.einsum("ij,ij->i", dbar, dbar)  # sum of rho over channels, per pixel
+        nb = level.n_blocks
+        if n_valid == len(valid):
+            r_block = np.bincount(level.block, weights=loss, minlength=nb) / level.block_size
+            seen = np.ones(nb, dtype=bool)
+        else:
+            vcount = np.bincount(level.block, weights=valid, minlength=nb)
+            vsum = np.bincount(level.block, weights=loss * valid, minlength=nb)
+            seen = vcount >= 0.5 * level.block_size
+            r_block = np.where(seen, vsum / np.maximum(vcount, 1.0), 0.0)
+        weight = seen.astype(np.float64)
+        use = valid
+        if seen.any():
+            med = float(np.median(r_block[seen]))
+            limit = self.options.outlier_factor * max(med, self._floor)
+            out = seen & (r_block > limit)
+            if out.sum() <= 0.5 * seen.sum():
+                weight[out] = 0.0
+                if out.any():
+                    # Something covers part of the blob: also drop its stray pixels from
+                    # the blocks that stay (their rows come out of the Gram matrix exactly).
+                    use = valid & (weight[level.block] > 0) & (loss <= limit)
+        if not weight.all() and use is valid:
+            use = valid & (weight[level.block] > 0)
+        weighted = bool(use is not valid or n_valid < len(valid))
+        n_use = int(np.count_nonzero(use))
+        if n_use == 0:
+            return None
+        residual = float(loss[use].mean()) if n_use < len(use) else float(loss.mean())
+        return _Eval(samples, dbar, valid, use, weight, residual, weighted)
+
+    def _solve(self, solver: Solver, level: Level, ev: _Eval, a_act: np.ndarray) -> np.ndarray:
+        """Parameter update (active parameters) from one evaluation.
+
+        Unweighted: the precomputed ``N B+`` of Eq. 14-15 with the Eq. 10 prior. Weighted
+        (occlusion, blob partly off the picture): the same least squares on the collapsed
+        basis restricted to the used pixels, with the Gram matrix assembled from per-block
+        Gram matrices minus the rows of the dropped pixels of kept blocks.
+        """
+        if not ev.weighted:
+            return solver.update @ ev.dbar.ravel() - solver.prior @ a_act
+        gram = np.tensordot(ev.block_weight, solver.block_gram, axes=1)
+        gone = np.nonzero((ev.block_weight[level.block] > 0) & ~ev.use)[0]
+        if len(gone):
+            rows = (3 * gone[:, None] + np.arange(3)).ravel()
+            jg = solver.jacobian[rows].astype(np.float64)
+            gram = gram - jg.T @ jg
+        rhs = solver.jacobian.T @ (ev.dbar * ev.use[:, None]).ravel()
+        rhs = rhs - solver.reg * a_act
+        try:
+            return np.linalg.solve(gram + solver.penalty, rhs)
+        except np.linalg.LinAlgError:
+            return np.zeros_like(a_act)
+
+    def _plausible(self, a: np.ndarray) -> bool:
+        if not np.isfinite(a).all():
+            return False
+        if not -3.0 < a[3] < 3.0:  # scale within 0.05x .. 20x
+            return False
+        amp = a[self.layout.modes]
+        return bool(np.all(np.abs(amp) < 0.6 * self.blob.length))
+
+    def _confidence(self, level: Level, ev: _Eval) -> float:
+        """Correlation of template and frame over the visible pixels, times visibility.
+
+        Per-channel normalised cross-correlation (so insensitive to the lighting model),
+        averaged with the template's channel variances as weights, on an even subsample.
+        """
+        step = max(1, len(ev.valid) // 4000)
+        v = ev.valid[::step]
+        visible = float(np.count_nonzero(ev.valid)) / len(ev.valid)
+        if np.count_nonzero(v) < 10:
+            return 0.0
+        t = level.template[::step][v]
+        s = ev.samples[::step][v]
+        t = t - t.mean(axis=0)
+        s = s - s.mean(axis=0)
+        var_t = np.einsum("ij,ij->j", t, t)
+        num = np.einsum("ij,ij->j", t, s)
+        den = np.sqrt(var_t * np.einsum("ij,ij->j", s, s))
+        ok = den > 1e-9
+        if not ok.any():
+            return 0.0
+        ncc = float((num[ok] / den[ok] * var_t[ok]).sum() / var_t[ok].sum())
+        return float(np.clip(ncc, 0.0, 1.0) * min(1.0, visible / 0.75))
