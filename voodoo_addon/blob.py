@@ -13,12 +13,12 @@ from dataclasses import dataclass, field, fields
 from functools import cached_property
 from pathlib import Path
 
-import cv2
 import numpy as np
 
 from .contour import simplify_contour, validate_contour
 from .errors import VoodooError
 from .fem import assemble, quadrature_points, rms_radius, select_modes, similarity_fields
+from .images import blur
 from .interpolants import GaussianInterpolant
 from .labels import label_modes
 from .mesh import PixelSet, TriMesh, rasterize, triangulate
@@ -190,9 +190,7 @@ def _texture_crop(frame: np.ndarray, contour: np.ndarray, sigma: float):
     y0 = int(max(0, np.floor((lo[1] - margin) / ALIGN) * ALIGN))
     x1 = int(min(w, np.ceil(hi[0] + margin) + 1))
     y1 = int(min(h, np.ceil(hi[1] + margin) + 1))
-    crop = np.ascontiguousarray(frame[y0:y1, x0:x1], dtype=np.float32)
-    if sigma > 0:
-        crop = cv2.GaussianBlur(crop, (0, 0), sigma, borderType=cv2.BORDER_REFLECT)
+    crop = blur(np.ascontiguousarray(frame[y0:y1, x0:x1], dtype=np.float32), sigma)
     return crop, np.array([x0, y0], dtype=np.int64)
 
 

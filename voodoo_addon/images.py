@@ -48,6 +48,14 @@ def to_uint8_bgr(image: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray((np.clip(image, 0, 1)[:, :, ::-1] * 255.0 + 0.5).astype(np.uint8))
 
 
+def blur(image: np.ndarray, sigma: float) -> np.ndarray:
+    """Gaussian blur with a kernel cut at 2.5 sigma (the template and the frames share it)."""
+    if sigma <= 0:
+        return image
+    k = 2 * int(np.ceil(2.5 * sigma)) + 1
+    return cv2.GaussianBlur(image, (k, k), sigma, borderType=cv2.BORDER_REFLECT)
+
+
 def read_image(path) -> np.ndarray:
     """Read a picture file, or the first frame of a video file.
 

@@ -16,7 +16,7 @@ from .blob import ActiveBlob
 from .mesh import TriMesh, rasterize
 from .norms import RobustNorm
 from .params import ParamLayout, node_positions, rotation
-from .warp import WarpBackend, WarpGeometry
+from .warp import REMAP_ROW, WarpBackend, WarpGeometry
 
 #: Parameter steps at every level: translations and modes move the blob by one level pixel
 #: (RMS), rotation and log-scale move its RMS radius by one level pixel; photometric steps are
@@ -31,6 +31,18 @@ def pyramid(image: np.ndarray, levels: int) -> list[np.ndarray]:
     for _ in range(levels - 1):
         out.append(cv2.pyrDown(out[-1]))
     return out
+
+
+class LazyPyramid:
+    """``pyramid`` built on demand: most frames only need level 0."""
+
+    def __init__(self, image: np.ndarray):
+        self._levels = [image]
+
+    def __getitem__(self, level: int) -> np.ndarray:
+        while len(self._levels) <= level:
+            self._levels.append(cv2.pyrDown(self._levels[-1]))
+        return self._levels[level]
 
 
 @dataclass(eq=False)
@@ -115,9 +127,19 @@ class Level:
         self.template = np.ascontiguousarray(tex[local[:, 1], local[:, 0]])  # (n, 3) float32
         # Mode displacement of every template pixel: (2n, k), interleaved like positions.
         corner = self.modes.reshape(-1, 2, layout.n_modes)[blob.triangles[tri]]  # (n,3,2,k)
-        pix_modes = np.einsum("pj,pjdk->pdk", weights, corner).reshape(-1, layout.n_modes)
-        self.pixel_modes = np.ascontiguousarray(pix_modes, dtype=np.float32)  # (2n, k)
-        self.base = (coords - self.centre).astype(np.float32)  # (n, 2)
+        pix_modes = np.einsum("pj,pjdk->pdk", weights, corner)  # (n, 2, k)
+        # Positions are one small product: lift^T (2(k+1), n) gives, for each axis, the pixel's
+        # offset from the centre and its mode displacements. Padded to whole remap rows.
+        n = len(coords)
+        self.n_pad = n if n <= REMAP_ROW else -(-n // REMAP_ROW) * REMAP_ROW
+        lift = np.zeros((2 * (layout.n_modes + 1), self.n_pad), dtype=np.float32)
+        k1 = layout.n_modes + 1
+        lift[0, :n] = coords[:, 0] - self.centre[0]
+        lift[1:k1, :n] = pix_modes[:, 0, :].T
+        lift[k1, :n] = coords[:, 1] - self.centre[1]
+        lift[k1 + 1 :, :n] = pix_modes[:, 1, :].T
+        self.lift = lift
+        self.all_valid = np.ones(n, dtype=bool)  # shared "every pixel is usable" mask
         # Pixel blocks for outlier rejection.
         lo, hi = coords.min(axis=0), coords.max(axis=0) + 1
         cell = np.floor((coords - lo) / (hi - lo) * block_grid).astype(np.int64)
@@ -133,14 +155,22 @@ class Level:
     # ------------------------------------------------------------------ warping
 
     def positions(self, a: np.ndarray) -> np.ndarray:
-        """Template pixels under the warp ``a``, level coordinates (n, 2) float32."""
-        lay = self.layout
-        local = self.base
-        if lay.n_modes:
-            amp = a[lay.modes].astype(np.float32)
-            local = local + (self.pixel_modes @ amp).reshape(-1, 2)
-        r = (np.exp(a[3]) * rotation(a[2])).astype(np.float32)
-        return local @ r.T + (self.centre + a[:2] * self.scale).astype(np.float32)
+        """Template pixels under the warp ``a``, level coordinates.
+
+        Returns
+        -------
+        (2, n_pad) float32
+            x in row 0, y in row 1 (the layout ``remap`` wants); columns past ``len(self)``
+            are padding.
+        """
+        v = np.empty(self.layout.n_modes + 1)
+        v[0] = 1.0
+        v[1:] = a[self.layout.modes]
+        r = np.exp(a[3]) * rotation(a[2])  # x' = r @ (offset + displacement)
+        w = np.concatenate([np.outer(r[:, 0], v), np.outer(r[:, 1], v)], axis=1)  # (2, 2(k+1))
+        pos = w.astype(np.float32) @ self.lift
+        pos += (self.centre + a[:2] * self.scale).astype(np.float32)[:, None]
+        return pos
 
     def nodes(self, a: np.ndarray) -> np.ndarray:
         """Mesh nodes under the warp ``a``, level coordinates (m, 2)."""
@@ -196,7 +226,7 @@ class Level:
                 else:
                     a = lay.identity()
                     a[k] = -step  # the frame moved by +step looks like the template moved back
-                    pos = self.positions(a) - self.texture_origin
+                    pos = self.positions(a) - self.texture_origin.astype(np.float32)[:, None]
                     nodes = self.nodes(a) - self.texture_origin
                     diff = i0 - backend.sample(self.geometry, nodes, pos)
                 b[:, col] = diff.ravel()

@@ -11,16 +11,18 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import cv2
 import numpy as np
 
 from .blob import ActiveBlob
 from .errors import VoodooError
-from .levels import Level, Solver, pyramid
+from .images import blur
+from .levels import LazyPyramid, Level, Solver
 from .norms import LorentzianNorm, RobustNorm
 from .params import ParamLayout, compose, node_positions
 from .reacquire import FeatureMatcher
 from .warp import CpuWarp, WarpBackend
+
+_ONES3 = np.ones(3, dtype=np.float32)
 
 
 @dataclass(frozen=True)
@@ -45,11 +47,11 @@ class TrackerOptions:
     tolerance : float
         Stop when the robust residual improves by less than this fraction.
     step_tolerance : float
-        ... or when an update moves no node by more than this many pixels (finest level;
-        coarser levels stop at a quarter of their pixel).
+        ... or when an update moves the nodes by less than this many pixels RMS (finest
+        level; coarser levels stop at a quarter of their pixel).
     fine_capture : float
         A frame starts at the finest level and drops to the coarse levels only when the
-        first update there moves a node farther than this many pixels.
+        first update there moves the nodes by more than this many pixels RMS.
     pixel_budget : int or None
         Template pixels used at full resolution at most (an even subsample beyond).
     block_grid : int
@@ -73,9 +75,9 @@ class TrackerOptions:
     max_levels: int = 3
     min_level_pixels: int = 300
     max_iterations: int = 8
-    tolerance: float = 1e-3
-    step_tolerance: float = 0.02
-    fine_capture: float = 1.5
+    tolerance: float = 1e-2
+    step_tolerance: float = 0.06
+    fine_capture: float = 1.0
     pixel_budget: int | None = 20000
     block_grid: int = 6
     outlier_factor: float = 4.0
@@ -330,11 +332,8 @@ class Tracker:
             y1 = int(np.clip(np.ceil(hi[1] + margin) + 1, 0, h))
             if x1 - x0 < 8 or y1 - y0 < 8:
                 return None
-        roi = frame[y0:y1, x0:x1]
-        sigma = self.blob.blur_sigma
-        if sigma > 0:
-            roi = cv2.GaussianBlur(roi, (0, 0), sigma, borderType=cv2.BORDER_REFLECT)
-        return pyramid(np.ascontiguousarray(roi), len(self.levels)), np.array([x0, y0], float)
+        roi = blur(np.ascontiguousarray(frame[y0:y1, x0:x1]), self.blob.blur_sigma)
+        return LazyPyramid(roi), np.array([x0, y0], float)
 
     def _register(self, frame: np.ndarray, start: np.ndarray, wide: bool):
         """Register from ``start``; returns (params, confidence, info).
@@ -368,7 +367,10 @@ class Tracker:
         if not self._plausible(a):
             return start, 0.0, info
         info["residual"] = last.residual
-        info["occluded"] = 1.0 - float(np.count_nonzero(last.use)) / len(last.use)
+        if last.weighted:
+            info["occluded"] = 1.0 - float(np.count_nonzero(last.use)) / len(last.use)
+        else:
+            info["occluded"] = 0.0
         return a, self._confidence(self.levels[0], last), info
 
     def _iterate(self, level: Level, image, a, origin, cap=None, bail=False):
@@ -408,7 +410,7 @@ class Tracker:
             delta[act] = delta_act
             new = compose(a, delta, self.layout)
             nodes_new = self.nodes(new)
-            step = float(np.abs(nodes_new - nodes_a).max())
+            step = float(np.sqrt(((nodes_new - nodes_a) ** 2).sum(axis=1).mean()))
             if bail and its == 1 and step > opt.fine_capture:
                 return a, None, its
             a, nodes_a = new, nodes_new
@@ -418,20 +420,35 @@ class Tracker:
         return best_a, best, its
 
     def _evaluate(self, level: Level, a, origin, box) -> _Eval | None:
+        """Warp, sample and compare at ``a``: the robust difference image (Eq. 12, 16)."""
+        n = len(level)
         pos = level.positions(a)
-        pos -= origin
-        x, y = pos[:, 0], pos[:, 1]
-        valid = (x >= 0) & (y >= 0) & (x <= box[0]) & (y <= box[1])
-        n_valid = int(np.count_nonzero(valid))
-        if n_valid < 0.15 * len(valid):
-            return None
-        samples = self.backend.sample(level.geometry, level.nodes(a) - origin, pos)
+        pos -= origin[:, None]
+        x, y = pos[0, :n], pos[1, :n]
+        if x.min() >= 0 and y.min() >= 0 and x.max() <= box[0] and y.max() <= box[1]:
+            valid, n_valid = None, n
+        else:
+            valid = (x >= 0) & (y >= 0) & (x <= box[0]) & (y <= box[1])
+            n_valid = int(np.count_nonzero(valid))
+            if n_valid < 0.15 * n:
+                return None
+        nodes = level.nodes(a) - origin if self.backend.needs_nodes else None
+        samples = self.backend.sample(level.geometry, nodes, pos)
         c, b = self.layout.channel_gain_offset(a)
-        d = level.template - (samples - b.astype(np.float32)) * (1.0 / c).astype(np.float32)
-        dbar = self.norm.transform(d)
-        loss = np.einsum("ij,ij->i", dbar, dbar)  # sum of rho over channels, per pixel
+        inv_c = (1.0 / c).astype(np.float32)
+        # d = I0 - (S - b) / c, then Eq. 16: dbar = sign(d) sqrt(rho(d)).
+        d = np.multiply(samples, inv_c)
+        np.subtract(level.template, d, out=d)
+        d += (b / c).astype(np.float32)
+        rho = self.norm.rho(d)
+        dbar = np.sqrt(rho)
+        np.copysign(dbar, d, out=dbar)
+        loss = rho @ _ONES3  # per pixel, summed over channels (faster than .sum(axis=1))
+        valid_all = valid is None
+        if valid_all:
+            valid = level.all_valid
         nb = level.n_blocks
-        if n_valid == len(valid):
+        if valid_all:
             r_block = np.bincount(level.block, weights=loss, minlength=nb) / level.block_size
             seen = np.ones(nb, dtype=bool)
         else:
@@ -445,19 +462,21 @@ class Tracker:
             med = float(np.median(r_block[seen]))
             limit = self.options.outlier_factor * max(med, self._floor)
             out = seen & (r_block > limit)
-            if out.sum() <= 0.5 * seen.sum():
+            if out.any() and out.sum() <= 0.5 * seen.sum():
                 weight[out] = 0.0
-                if out.any():
-                    # Something covers part of the blob: also drop its stray pixels from
-                    # the blocks that stay (their rows come out of the Gram matrix exactly).
-                    use = valid & (weight[level.block] > 0) & (loss <= limit)
-        if not weight.all() and use is valid:
+                # Something covers part of the blob: also drop its stray pixels from the
+                # blocks that stay (their rows come out of the Gram matrix exactly).
+                use = valid & (weight[level.block] > 0) & (loss <= limit)
+        if use is valid and not weight.all():
             use = valid & (weight[level.block] > 0)
-        weighted = bool(use is not valid or n_valid < len(valid))
-        n_use = int(np.count_nonzero(use))
-        if n_use == 0:
-            return None
-        residual = float(loss[use].mean()) if n_use < len(use) else float(loss.mean())
+        weighted = use is not level.all_valid
+        if weighted:
+            n_use = int(np.count_nonzero(use))
+            if n_use == 0:
+                return None
+            residual = float(loss[use].mean())
+        else:
+            residual = float(loss.mean())
         return _Eval(samples, dbar, valid, use, weight, residual, weighted)
 
     def _solve(self, solver: Solver, level: Level, ev: _Eval, a_act: np.ndarray) -> np.ndarray:
@@ -497,13 +516,17 @@ class Tracker:
         Per-channel normalised cross-correlation (so insensitive to the lighting model),
         averaged with the template's channel variances as weights, on an even subsample.
         """
-        step = max(1, len(ev.valid) // 4000)
-        v = ev.valid[::step]
-        visible = float(np.count_nonzero(ev.valid)) / len(ev.valid)
-        if np.count_nonzero(v) < 10:
-            return 0.0
-        t = level.template[::step][v]
-        s = ev.samples[::step][v]
+        step = max(1, len(ev.valid) // 3000)
+        t = level.template[::step]
+        s = ev.samples[::step]
+        if ev.valid is level.all_valid:
+            visible = 1.0
+        else:
+            visible = float(np.count_nonzero(ev.valid)) / len(ev.valid)
+            v = ev.valid[::step]
+            if np.count_nonzero(v) < 10:
+                return 0.0
+            t, s = t[v], s[v]
         t = t - t.mean(axis=0)
         s = s - s.mean(axis=0)
         var_t = np.einsum("ij,ij->j", t, t)

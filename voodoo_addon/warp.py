@@ -45,6 +45,11 @@ class WarpGeometry:
         return np.einsum("pk,pkd->pd", self.weights, corner)
 
 
+#: ``cv2.remap`` wants maps narrower than 32767 columns: long point lists are folded into rows
+#: of this many.
+REMAP_ROW = 8192
+
+
 class WarpBackend(abc.ABC):
     """Samples the bound picture at the template pixels of a warped mesh."""
 
@@ -55,20 +60,23 @@ class WarpBackend(abc.ABC):
     def bind(self, image: np.ndarray) -> None:
         """Make ``image`` (H, W, 3) float32 the picture that :meth:`sample` reads."""
 
+    #: Whether :meth:`sample` reads ``nodes`` (the tracker skips computing them otherwise).
+    needs_nodes = True
+
     @abc.abstractmethod
-    def sample(
-        self, geometry: WarpGeometry, nodes: np.ndarray, positions: np.ndarray
-    ) -> np.ndarray:
+    def sample(self, geometry: WarpGeometry, nodes, positions: np.ndarray) -> np.ndarray:
         """Colours of the template pixels under the warp.
 
         Parameters
         ----------
         geometry : WarpGeometry
-        nodes : (m, 2) float64
-            Warped node positions in the bound picture's pixel coordinates.
-        positions : (n, 2) float32 or float64
-            The same warp evaluated at the template pixels (``geometry.positions(nodes)``);
-            backends that rasterise triangles themselves may ignore it.
+        nodes : (m, 2) float64 or None
+            Warped node positions in the bound picture's pixel coordinates (None when
+            ``needs_nodes`` is False).
+        positions : (2, n_pad) float32
+            The same warp evaluated at the template pixels: x in row 0, y in row 1, padded
+            to ``n_pad >= n`` columns (whole rows of :data:`REMAP_ROW` when longer than one).
+            Backends that rasterise triangles themselves may ignore it.
 
         Returns
         -------
@@ -80,13 +88,11 @@ class WarpBackend(abc.ABC):
         """Release resources (GPU textures, ...)."""
 
 
-_ROW = 8192
-
-
 class CpuWarp(WarpBackend):
     """Bilinear sampling with ``cv2.remap`` at precomputed pixel positions."""
 
     name = "cpu"
+    needs_nodes = False
 
     def __init__(self):
         self._image = None
@@ -94,20 +100,15 @@ class CpuWarp(WarpBackend):
     def bind(self, image: np.ndarray) -> None:
         self._image = image
 
-    def sample(
-        self, geometry: WarpGeometry, nodes: np.ndarray, positions: np.ndarray
-    ) -> np.ndarray:
-        n = len(positions)
-        # remap wants maps narrower than 32767 columns: fold long point lists into rows.
-        cols = min(n, _ROW)
-        rows = -(-n // cols)
-        maps = np.zeros((2, rows * cols), dtype=np.float32)
-        maps[:, :n] = positions.T
+    def sample(self, geometry: WarpGeometry, nodes, positions: np.ndarray) -> np.ndarray:
+        n_pad = positions.shape[1]
+        cols = min(n_pad, REMAP_ROW)
+        shape = (n_pad // cols, cols)
         out = cv2.remap(
             self._image,
-            maps[0].reshape(rows, cols),
-            maps[1].reshape(rows, cols),
+            positions[0].reshape(shape),
+            positions[1].reshape(shape),
             interpolation=cv2.INTER_LINEAR,
             borderMode=cv2.BORDER_REPLICATE,
         )
-        return out.reshape(-1, 3)[:n]
+        return out.reshape(-1, 3)[: len(geometry.coords)]

@@ -1,0 +1,208 @@
+"""The benchmark (``python -m voodoo_addon bench``): tracking speed and accuracy.
+
+Runs single-threaded (one BLAS/OpenMP/OpenCV thread; the command re-executes itself with the
+thread variables set). For each configuration a synthetic nonrigid take with known motion is
+rendered first, then tracked; the time per frame excludes rendering and decoding. The same
+frames are tracked by OpenCV's pyramidal Lucas-Kanade (KLT) on the mesh nodes, the tool a user
+would reach for instead.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from .blob import BlobOptions, build_blob
+from .synthetic import Pose, foam_scene
+from .tracker import Tracker
+
+THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMEXPR_NUM_THREADS")
+
+
+@dataclass(frozen=True)
+class Config:
+    name: str
+    size: tuple  # (width, height)
+    modes: int
+    pixels: int
+    paper_fps: float | None
+    target_fps: float
+
+
+CONFIGS = (
+    Config("paper-1: 256x256, 14 modes, 8.5k px", (256, 256), 14, 8500, 6.6, 500.0),
+    Config("paper-2: 256x256, 20 modes, 17k px", (256, 256), 20, 17000, 3.3, 250.0),
+    Config("large: 640x480, 30 modes, 50k px", (640, 480), 30, 50000, None, 100.0),
+)
+
+
+def motion(kind: str, frames: int, size) -> list[Pose]:
+    """Nonrigid takes scaled to the frame: what a hand does with a foam doll."""
+    w, h = size
+    out = []
+    for i in range(frames):
+        s = 2 * np.pi * i / frames
+        if kind == "squeeze":
+            out.append(
+                Pose(
+                    tx=0.06 * w * np.sin(s),
+                    ty=0.04 * h * np.sin(2 * s),
+                    theta=0.5 * np.sin(s),
+                    log_scale=0.12 * np.sin(s),
+                    deform={
+                        "bend-x": 0.12 * np.sin(2 * s),
+                        "shear": 0.05 * np.sin(s),
+                        "taper-x": 0.08 * np.sin(3 * s),
+                    },
+                )
+            )
+        elif kind == "bend":
+            out.append(
+                Pose(
+                    tx=0.02 * w * np.sin(s),
+                    deform={
+                        "bend-x": 0.15 * np.sin(s),
+                        "bend-y": 0.08 * np.sin(2 * s),
+                        "stretch-x": 0.06 * np.sin(3 * s),
+                    },
+                )
+            )
+        else:
+            raise ValueError(kind)
+    return out
+
+
+def _klt(frames, start_nodes):
+    """Pyramidal Lucas-Kanade on the nodes, frame to frame; returns (nodes per frame, seconds)."""
+    grays = [cv2.cvtColor((f * 255).astype(np.uint8), cv2.COLOR_RGB2GRAY) for f in frames]
+    pts = start_nodes.astype(np.float32).reshape(-1, 1, 2)
+    out = [start_nodes.copy()]
+    t0 = time.perf_counter()
+    for a, b in zip(grays[:-1], grays[1:], strict=True):
+        pts, _, _ = cv2.calcOpticalFlowPyrLK(a, b, pts, None, winSize=(21, 21), maxLevel=3)
+        out.append(pts.reshape(-1, 2).astype(np.float64))
+    return out, time.perf_counter() - t0
+
+
+def run_config(cfg: Config, kind: str, frames: int) -> dict:
+    w, h = cfg.size
+    scene, contour = foam_scene(w, h, cfg.pixels, seed=3)
+    poses = motion(kind, frames, cfg.size)
+    rng = np.random.default_rng(7)
+    images = [scene.render(p, noise=0.01, rng=rng) for p in poses]
+    t0 = time.perf_counter()
+    blob = build_blob(images[0], contour, BlobOptions(n_modes=cfg.modes))
+    t_build = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    tracker = Tracker(blob)
+    t_pre = time.perf_counter() - t0
+    times, errs, its = [], [], []
+    for img, pose in zip(images, poses, strict=True):
+        t0 = time.perf_counter()
+        res = tracker.track(img)
+        times.append(time.perf_counter() - t0)
+        truth = scene.forward(pose, blob.vertices)
+        errs.append(float(np.linalg.norm(res.nodes - truth, axis=1).mean()))
+        its.append(res.iterations)
+    klt_nodes, klt_time = _klt(images, blob.vertices)
+    klt_err = [
+        float(np.linalg.norm(n - scene.forward(p, blob.vertices), axis=1).mean())
+        for n, p in zip(klt_nodes, poses, strict=True)
+    ]
+    per_frame = float(np.mean(times[1:]))
+    return {
+        "config": cfg.name,
+        "sequence": kind,
+        "frames": frames,
+        "pixels": blob.n_pixels,
+        "nodes": blob.n_nodes,
+        "modes": blob.n_modes,
+        "build_s": round(t_build, 4),
+        "precompute_s": round(t_pre, 4),
+        "ms_per_frame": round(1e3 * per_frame, 3),
+        "fps": round(1.0 / per_frame, 1),
+        "target_fps": cfg.target_fps,
+        "paper_fps": cfg.paper_fps,
+        "iterations": round(float(np.mean(its[1:])), 2),
+        "error_px": round(float(np.mean(errs)), 4),
+        "max_error_px": round(float(np.max(errs)), 4),
+        "klt_fps": round((frames - 1) / klt_time, 1),
+        "klt_error_px": round(float(np.mean(klt_err)), 4),
+    }
+
+
+def run_bench(quick: bool = False, progress: bool = True) -> dict:
+    """Run every configuration (re-executing single-threaded if needed); returns the report."""
+    if os.environ.get("VOODOO_BENCH_CHILD") != "1":
+        env = dict(os.environ, VOODOO_BENCH_CHILD="1", **{v: "1" for v in THREAD_VARS})
+        cmd = [sys.executable, "-m", "voodoo_addon", "bench", "--json"] + (
+            ["--quick"] if quick else []
+        )
+        out = subprocess.run(cmd, env=env, capture_output=True, text=True, check=False)
+        if out.returncode != 0:
+            raise RuntimeError(
+                out.stderr.strip().splitlines()[-1] if out.stderr else "bench failed"
+            )
+        import json
+
+        report = json.loads(out.stdout.strip().splitlines()[-1])
+        if progress:
+            print(format_report(report))
+        return report
+    cv2.setNumThreads(1)
+    frames = 24 if quick else 120
+    rows = [run_config(cfg, kind, frames) for cfg in CONFIGS for kind in ("squeeze", "bend")]
+    return {
+        "machine": _machine(),
+        "threads": 1,
+        "rows": rows,
+    }
+
+
+def _machine() -> str:
+    import platform
+
+    cpu = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as fh:
+            for line in fh:
+                if line.startswith("model name"):
+                    cpu = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    return (
+        f"{cpu}, {os.cpu_count()} cores, Python {platform.python_version()}, "
+        f"numpy {np.__version__}, OpenCV {cv2.__version__}"
+    )
+
+
+def format_report(report: dict) -> str:
+    """The report as a Markdown table."""
+    lines = [
+        f"Machine: {report['machine']} (1 thread)",
+        "",
+        "| configuration | sequence | px | nodes | fps (target) | iters/frame | error px "
+        "| KLT fps | KLT error px |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in report["rows"]:
+        ok = "" if r["fps"] >= r["target_fps"] else " **missed**"
+        lines.append(
+            f"| {r['config']} | {r['sequence']} | {r['pixels']} | {r['nodes']} | "
+            f"{r['fps']:.0f} ({r['target_fps']:.0f}){ok} | {r['iterations']:.2f} | "
+            f"{r['error_px']:.3f} | {r['klt_fps']:.0f} | {r['klt_error_px']:.3f} |"
+        )
+    builds = {r["config"]: (r["build_s"], r["precompute_s"]) for r in report["rows"]}
+    lines.append("")
+    for name, (b, p) in builds.items():
+        lines.append(
+            f"- {name}: blob built in {b * 1e3:.0f} ms, tracker precompute {p * 1e3:.0f} ms"
+        )
+    return "\n".join(lines)
