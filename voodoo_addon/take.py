@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import io
 import sys
 import time
+import zipfile
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -59,29 +61,64 @@ class Take:
         return len(self.params)
 
 
-def save_take(path, take: Take) -> None:
-    """Write a take as ``.npz`` (no pickles).
+def take_to_bytes(take: Take) -> bytes:
+    """Serialise a take as ``.npz`` bytes (no pickles).
 
     Holds the contract's ``vertices``, ``triangles``, ``params``, ``confidence`` and
-    ``mode_labels`` (the parameter names), plus ``lost``, ``frame_indices``, ``times``, ``fps``,
-    ``iterations`` and a format header.
+    ``mode_labels`` (the parameter names), plus ``lost``, ``frame_indices``, ``times``,
+    ``fps``, ``iterations`` and a format header.
     """
+    buf = io.BytesIO()
+    np.savez_compressed(
+        buf,
+        format_kind=np.array(TAKE_KIND),
+        format_version=np.array(TAKE_VERSION),
+        vertices=take.vertices,
+        triangles=take.triangles,
+        params=take.params,
+        confidence=take.confidence,
+        mode_labels=take.param_names.astype(str),
+        lost=take.lost,
+        frame_indices=take.frame_indices,
+        times=take.times,
+        fps=np.array(take.fps),
+        iterations=take.iterations,
+    )
+    return buf.getvalue()
+
+
+def take_from_bytes(data: bytes, source: str = "the take data") -> Take:
+    """Inverse of :func:`take_to_bytes`; raises VoodooError on anything else."""
     try:
-        np.savez_compressed(
-            path,
-            format_kind=np.array(TAKE_KIND),
-            format_version=np.array(TAKE_VERSION),
-            vertices=take.vertices,
-            triangles=take.triangles,
-            params=take.params,
-            confidence=take.confidence,
-            mode_labels=take.param_names.astype(str),
-            lost=take.lost,
-            frame_indices=take.frame_indices,
-            times=take.times,
-            fps=np.array(take.fps),
-            iterations=take.iterations,
+        with np.load(io.BytesIO(data), allow_pickle=False) as npz:
+            d = {k: npz[k] for k in npz.files}
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as exc:
+        raise VoodooError(f"{source} is not a readable take ({exc}).") from None
+    kind = str(d.get("format_kind", ""))
+    version = int(d["format_version"]) if "format_version" in d else -1
+    if kind != TAKE_KIND or version != TAKE_VERSION:
+        raise VoodooError(f"{source} is not a Voodoo take of version {TAKE_VERSION}.")
+    try:
+        return Take(
+            vertices=d["vertices"],
+            triangles=d["triangles"],
+            params=d["params"],
+            confidence=d["confidence"],
+            lost=d["lost"],
+            param_names=d["mode_labels"],
+            frame_indices=d["frame_indices"],
+            times=d["times"],
+            fps=float(d["fps"]),
+            iterations=d["iterations"],
         )
+    except KeyError as exc:
+        raise VoodooError(f"{source} is incomplete (missing {exc.args[0]}).") from None
+
+
+def save_take(path, take: Take) -> None:
+    """Write a take to an ``.npz`` file (see :func:`take_to_bytes`)."""
+    try:
+        Path(path).write_bytes(take_to_bytes(take))
     except OSError as exc:
         raise VoodooError(f"Could not write the take to {path} ({exc.strerror}).") from None
 
@@ -90,27 +127,10 @@ def load_take(path) -> Take:
     """Read a take written by :func:`save_take`."""
     path = Path(path)
     try:
-        with np.load(path, allow_pickle=False) as npz:
-            d = {k: npz[k] for k in npz.files}
-    except (OSError, ValueError, EOFError) as exc:
-        raise VoodooError(f"{path} is not a readable take file ({exc}).") from None
-    if (
-        str(d.get("format_kind", "")) != TAKE_KIND
-        or int(d.get("format_version", -1)) != TAKE_VERSION
-    ):
-        raise VoodooError(f"{path} is not a Voodoo take of version {TAKE_VERSION}.")
-    return Take(
-        vertices=d["vertices"],
-        triangles=d["triangles"],
-        params=d["params"],
-        confidence=d["confidence"],
-        lost=d["lost"],
-        param_names=d["mode_labels"],
-        frame_indices=d["frame_indices"],
-        times=d["times"],
-        fps=float(d["fps"]),
-        iterations=d["iterations"],
-    )
+        data = path.read_bytes()
+    except OSError as exc:
+        raise VoodooError(f"Could not read the take file {path} ({exc.strerror}).") from None
+    return take_from_bytes(data, source=str(path))
 
 
 class ProgressBar:

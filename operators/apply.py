@@ -1,0 +1,300 @@
+"""Writing a take onto a mesh: one shape key per mode, rigid motion on the transform.
+
+Everything lands in a new layered action named after the take: one slot for the object
+(location, rotation, scale) and one for its shape-key datablock (``key_blocks[...].value``,
+since shape-key values belong to the Key). Animation already on the object or its Key is
+pushed to the NLA first, never overwritten. Mode toggles and gains act afterwards by muting
+curves and rescaling shapes -- no re-tracking.
+"""
+
+import bpy
+import numpy as np
+from bpy_extras import anim_utils
+from mathutils import Matrix
+
+from ..voodoo_addon.errors import VoodooError
+from ..voodoo_addon.params import ParamLayout
+from ..voodoo_addon.retarget import (
+    fit_mapping,
+    mapping_from_list,
+    mode_offsets,
+    rigid_transforms,
+    unit,
+)
+from .store import load_blob, load_take
+
+#: Custom property on a target: which blob/take drive it and how the doll was laid on it.
+LINK_KEY = "voodoo"
+#: Shape-key values allowed by the sliders (doll units, see ``retarget.UNIT_FRACTION``).
+SLIDER_RANGE = 10.0
+
+
+def check_target(obj) -> None:
+    """Raise VoodooError unless ``obj`` is a live mesh object with vertices."""
+    try:
+        kind = obj.type if obj is not None else None
+    except ReferenceError:
+        kind = None
+    if kind is None:
+        raise VoodooError("No target: pick a mesh object to animate.")
+    if kind != "MESH":
+        raise VoodooError(f"{obj.name!r} is a {kind.lower()}, not a mesh; pick a mesh object.")
+    if len(obj.data.vertices) == 0:
+        raise VoodooError(f"{obj.name!r} has no vertices to deform.")
+
+
+def rest_vertices(obj) -> np.ndarray:
+    """Local rest-pose vertices (n, 3): the Basis shape if any, else the mesh."""
+    mesh = obj.data
+    n = len(mesh.vertices)
+    co = np.empty(n * 3, dtype=np.float64)
+    if mesh.shape_keys is not None:
+        mesh.shape_keys.reference_key.data.foreach_get("co", co)
+    else:
+        mesh.vertices.foreach_get("co", co)
+    return co.reshape(n, 3)
+
+
+def key_name(blob_mesh, label: str) -> str:
+    return f"{blob_mesh.name}:{label}"
+
+
+def layout_for(blob, take) -> ParamLayout:
+    """The parameter layout a take was recorded with."""
+    extra = len(take.param_names) - 4 - blob.n_modes
+    photometric = {6: "channel", 2: "global", 0: "none"}.get(extra)
+    if photometric is None:
+        raise VoodooError("The take does not belong to this blob (its parameters differ).")
+    return ParamLayout(tuple(str(s) for s in blob.labels), photometric)
+
+
+def push_to_nla(id_data) -> None:
+    """Move the active action of an ID onto a new NLA track (nothing is lost)."""
+    ad = id_data.animation_data
+    if ad is None or ad.action is None:
+        return
+    action, slot = ad.action, ad.action_slot
+    track = ad.nla_tracks.new()
+    track.name = f"Before {action.name}"
+    start = int(action.frame_range[0])
+    strip = track.strips.new(action.name, start, action)
+    if slot is not None and hasattr(strip, "action_slot"):
+        strip.action_slot = slot
+    ad.action = None
+
+
+def _channelbag(action, id_data, name):
+    slot = action.slots.new(id_type=id_data.id_type, name=name)
+    return slot, anim_utils.action_ensure_channelbag_for_slot(action, slot)
+
+
+def _write_curve(bag, path: str, index: int, frames, values, group: str):
+    fc = bag.fcurves.new(path, index=index)
+    fc.group = bag.groups.get(group) or bag.groups.new(group)
+    fc.keyframe_points.add(len(frames))
+    fc.keyframe_points.foreach_set("co", np.column_stack([frames, values]).ravel())
+    fc.update()
+    return fc
+
+
+def shape_for_mode(obj, blob_mesh, mode, offsets_row, rest):
+    """Create or refresh the shape key of one mode (its shape carries the gain)."""
+    key = obj.data.shape_keys
+    name = key_name(blob_mesh, mode.name)
+    kb = key.key_blocks.get(name) if key is not None else None
+    if kb is None:
+        if key is None:
+            obj.shape_key_add(name="Basis", from_mix=False)
+        kb = obj.shape_key_add(name=name, from_mix=False)
+        kb.slider_min, kb.slider_max = -SLIDER_RANGE, SLIDER_RANGE
+    kb.data.foreach_set("co", (rest + mode.gain * offsets_row).ravel())
+    kb.mute = not mode.enabled
+    return kb
+
+
+def _transform_curves(obj, matrices):
+    """Location, rotation (in the object's rotation mode) and scale per frame."""
+    locs, rots, scales = [], [], []
+    prev = None
+    quat_mode = obj.rotation_mode in {"QUATERNION", "AXIS_ANGLE"}
+    for m in matrices:
+        loc, quat, scale = Matrix(m.tolist()).decompose()
+        if quat_mode:
+            if prev is not None and quat.dot(prev) < 0:
+                quat.negate()
+            prev = quat.copy()
+            rots.append(tuple(quat))
+        else:
+            eul = (
+                quat.to_euler(obj.rotation_mode, prev)
+                if prev is not None
+                else quat.to_euler(obj.rotation_mode)
+            )
+            prev = eul.copy()
+            rots.append(tuple(eul))
+        locs.append(tuple(loc))
+        scales.append(tuple(scale))
+    path = "rotation_quaternion" if quat_mode else "rotation_euler"
+    return np.array(locs), path, np.array(rots), np.array(scales)
+
+
+def apply_take(scene, obj, blob_mesh, take_name: str) -> dict:
+    """Write a stored take onto ``obj`` (one undo step when called from an operator).
+
+    Returns
+    -------
+    dict
+        ``action`` (the new Action), ``keyed`` (frames keyed), ``lost`` (scene frames not
+        keyed because the track was lost there).
+    """
+    check_target(obj)
+    s = scene.voodoo
+    blob = load_blob(blob_mesh)
+    take = load_take(blob_mesh, take_name)
+    frames = take_frames(blob_mesh, take_name, take)
+    layout = layout_for(blob, take)
+    rest = rest_vertices(obj)
+    mapping = fit_mapping(blob, rest, s.axes)
+    good = ~take.lost
+    if not good.any():
+        raise VoodooError(f"Take {take_name!r} lost the blob in every frame; nothing to apply.")
+    modes = [m for m in s.modes if m.enabled and m.index < blob.n_modes]
+    offsets = mode_offsets(blob, mapping, rest, [m.index for m in modes])
+
+    push_to_nla(obj)
+    if obj.data.shape_keys is not None:
+        push_to_nla(obj.data.shape_keys)
+
+    rest_matrix = np.array(obj.matrix_basis)
+    shapes = [shape_for_mode(obj, blob_mesh, m, offsets[i], rest) for i, m in enumerate(modes)]
+    action = bpy.data.actions.new(take_name)
+    slot_obj, bag_obj = _channelbag(action, obj, obj.name)
+    f = frames[good].astype(np.float64)
+    u = unit(blob)
+    if shapes:
+        key = obj.data.shape_keys
+        slot_key, bag_key = _channelbag(action, key, key.name)
+        for m, kb in zip(modes, shapes, strict=True):
+            values = take.params[good, layout.modes.start + m.index] / u
+            fc = _write_curve(bag_key, f'key_blocks["{kb.name}"].value', 0, f, values, "Modes")
+            fc.mute = not m.enabled
+        key.animation_data_create()
+        key.animation_data.action = action
+        key.animation_data.action_slot = slot_key
+    deltas = rigid_transforms(take.params[good], layout, blob, mapping)
+    locs, rot_path, rots, scales = _transform_curves(obj, rest_matrix @ deltas)
+    for path, data, use in (
+        ("location", locs, s.apply_location),
+        (rot_path, rots, s.apply_rotation),
+        ("scale", scales, s.apply_scale),
+    ):
+        for i in range(data.shape[1]):
+            fc = _write_curve(bag_obj, path, i, f, data[:, i], "Object Transforms")
+            fc.mute = not use
+    obj.animation_data_create()
+    obj.animation_data.action = action
+    obj.animation_data.action_slot = slot_obj
+    obj[LINK_KEY] = {
+        "blob": blob_mesh.name,
+        "take": take_name,
+        "action": action.name,
+        "axes": mapping.axes,
+        "mapping": mapping.as_list(),
+        "rest_matrix": rest_matrix.ravel().tolist(),
+    }
+    return {"action": action, "keyed": int(good.sum()), "lost": frames[~good].tolist()}
+
+
+def take_frames(blob_mesh, take_name, take) -> np.ndarray:
+    """Scene frame of every row of a take (stored when it was recorded)."""
+    stored = blob_mesh.get("voodoo_take_frames", {}).get(take_name)
+    if stored is None or len(stored) != len(take):
+        raise VoodooError(f"Take {take_name!r} has no frame numbers; record it again.")
+    return np.asarray(stored, dtype=np.int64)
+
+
+def linked_objects(scene, blob_mesh):
+    """Objects of the scene driven by takes of ``blob_mesh``."""
+    out = []
+    for obj in scene.objects:
+        link = obj.get(LINK_KEY)
+        if obj.type == "MESH" and link is not None and link.get("blob") == blob_mesh.name:
+            out.append(obj)
+    return out
+
+
+def _bag_of(id_data):
+    ad = id_data.animation_data if id_data is not None else None
+    if ad is None or ad.action is None or ad.action_slot is None:
+        return None
+    return anim_utils.action_get_channelbag_for_slot(ad.action, ad.action_slot)
+
+
+def refresh_modes(scene) -> None:
+    """Make mode toggles, gains and rigid toggles take effect on every linked object.
+
+    A mode switched on that was not applied yet gets its shape key and curve from the
+    stored take; switched off, its key and curve are muted; a gain rescales its shape.
+    """
+    s = scene.voodoo
+    blob_mesh = s.blob
+    if blob_mesh is None:
+        return
+    try:
+        blob = load_blob(blob_mesh)
+    except VoodooError:
+        return
+    for obj in linked_objects(scene, blob_mesh):
+        link = obj[LINK_KEY]
+        mapping = mapping_from_list(link["axes"], link["mapping"])
+        rest = rest_vertices(obj)
+        modes = [m for m in s.modes if m.index < blob.n_modes]
+        key = obj.data.shape_keys
+        bag_key = _bag_of(key)
+        wanted = [
+            m
+            for m in modes
+            if m.enabled or (key and key.key_blocks.get(key_name(blob_mesh, m.name)))
+        ]
+        offsets = mode_offsets(blob, mapping, rest, [m.index for m in wanted])
+        for row, m in enumerate(wanted):
+            had = key is not None and key.key_blocks.get(key_name(blob_mesh, m.name)) is not None
+            kb = shape_for_mode(obj, blob_mesh, m, offsets[row], rest)
+            key = obj.data.shape_keys
+            path = f'key_blocks["{kb.name}"].value'
+            if not had and m.enabled:
+                bag_key = _add_mode_curve(scene, obj, blob_mesh, blob, link, m, path)
+            if bag_key is not None:
+                fc = bag_key.fcurves.find(path)
+                if fc is not None:
+                    fc.mute = not m.enabled
+        bag_obj = _bag_of(obj)
+        if bag_obj is not None:
+            for fc in bag_obj.fcurves:
+                if fc.data_path == "location":
+                    fc.mute = not s.apply_location
+                elif fc.data_path.startswith("rotation"):
+                    fc.mute = not s.apply_rotation
+                elif fc.data_path == "scale":
+                    fc.mute = not s.apply_scale
+
+
+def _add_mode_curve(scene, obj, blob_mesh, blob, link, mode, path):
+    """Key a newly enabled mode from the stored take into the object's take action."""
+    take = load_take(blob_mesh, link["take"])
+    layout = layout_for(blob, take)
+    frames = take_frames(blob_mesh, link["take"], take)
+    good = ~take.lost
+    key = obj.data.shape_keys
+    action = bpy.data.actions.get(link["action"])
+    if action is None:
+        return _bag_of(key)
+    key.animation_data_create()
+    if key.animation_data.action is None:
+        slot = action.slots.new(id_type="KEY", name=key.name)
+        key.animation_data.action = action
+        key.animation_data.action_slot = slot
+    bag = _bag_of(key)
+    values = take.params[good, layout.modes.start + mode.index] / unit(blob)
+    _write_curve(bag, path, 0, frames[good].astype(np.float64), values, "Modes")
+    return bag

@@ -1,0 +1,37 @@
+import bpy
+
+from ..voodoo_addon.contour import simplify_contour, validate_contour
+from ..voodoo_addon.errors import VoodooError
+from .common import reports_errors, settings, store_contour
+from .frames import mask_contour
+
+
+class VOODOO_OT_contour_from_mask(bpy.types.Operator):
+    """Use the Mask drawn over the clip as the outline of the blob"""
+
+    bl_idname = "voodoo.contour_from_mask"
+    bl_label = "Outline from Mask"
+    bl_options = {"REGISTER", "UNDO"}
+
+    mask: bpy.props.StringProperty(name="Mask", description="Mask to use (default: the editor's)")
+
+    @reports_errors
+    def execute(self, context):
+        s = settings(context)
+        if s.capture_image is None:
+            raise VoodooError("Capture a frame first (the outline is drawn on it).")
+        mask = bpy.data.masks.get(self.mask) if self.mask else None
+        if mask is None:
+            space = getattr(context, "space_data", None)
+            mask = getattr(space, "mask", None) if space is not None else None
+        if mask is None and len(bpy.data.masks) == 1:
+            mask = bpy.data.masks[0]
+        size = tuple(s.capture_image.size)
+        points = mask_contour(mask, size)
+        points = validate_contour(simplify_contour(points, 0.5), frame_size=size)
+        store_contour(s, points)
+        self.report({"INFO"}, f"Outline of {len(points)} points from mask {mask.name!r}.")
+        return {"FINISHED"}
+
+
+classes = (VOODOO_OT_contour_from_mask,)

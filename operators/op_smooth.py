@@ -1,0 +1,75 @@
+import bpy
+
+from ..voodoo_addon.errors import VoodooError
+from .apply import LINK_KEY
+from .common import reports_errors, settings
+
+
+def _take_curves(obj):
+    """F-curves of the take action on an object and on its shape-key datablock."""
+    from bpy_extras import anim_utils
+
+    curves = []
+    for id_data in (obj, obj.data.shape_keys):
+        ad = getattr(id_data, "animation_data", None)
+        if ad is not None and ad.action is not None and ad.action_slot is not None:
+            bag = anim_utils.action_get_channelbag_for_slot(ad.action, ad.action_slot)
+            if bag is not None:
+                curves.extend(bag.fcurves)
+    return curves
+
+
+class VOODOO_OT_smooth_take(bpy.types.Operator):
+    """Smooth the target's take curves with Blender's Butterworth filter (keys stay editable)"""
+
+    bl_idname = "voodoo.smooth_take"
+    bl_label = "Smooth Take"
+    bl_options = {"REGISTER", "UNDO"}
+
+    cutoff: bpy.props.FloatProperty(
+        name="Cutoff",
+        description="Frequencies above this many Hz are removed",
+        default=3.0,
+        min=0.1,
+        max=30.0,
+    )
+
+    @reports_errors
+    def execute(self, context):
+        s = settings(context)
+        obj = s.target if s.target is not None else context.active_object
+        if obj is None or LINK_KEY not in obj:
+            raise VoodooError("The target has no applied take to smooth.")
+        curves = _take_curves(obj)
+        if not curves:
+            raise VoodooError(f"{obj.name!r} has no take curves (was its action replaced?).")
+        window = context.window or context.window_manager.windows[0]
+        area = context.area if context.area is not None else window.screen.areas[0]
+        old_type = area.type
+        selection = [(o, o.select_get()) for o in context.view_layer.objects]
+        old_active = context.view_layer.objects.active
+        try:
+            area.type = "GRAPH_EDITOR"
+            for o, _ in selection:
+                o.select_set(o == obj)
+            context.view_layer.objects.active = obj
+            for fc in curves:
+                fc.select = True
+                fc.hide = False
+                for k in fc.keyframe_points:
+                    k.select_control_point = True
+            region = next(r for r in area.regions if r.type == "WINDOW")
+            with context.temp_override(window=window, area=area, region=region):
+                result = bpy.ops.graph.butterworth_smooth(cutoff_frequency=self.cutoff)
+        finally:
+            area.type = old_type
+            for o, was in selection:
+                o.select_set(was)
+            context.view_layer.objects.active = old_active
+        if "FINISHED" not in result:
+            raise VoodooError("Blender's smoothing did not run on the take's curves.")
+        self.report({"INFO"}, f"Smoothed {len(curves)} curves of {obj.name!r}.")
+        return {"FINISHED"}
+
+
+classes = (VOODOO_OT_smooth_take,)

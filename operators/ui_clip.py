@@ -1,0 +1,88 @@
+import bpy
+
+from .ui_modes import draw_mode_list
+
+
+class _ClipPanel:
+    bl_space_type = "CLIP_EDITOR"
+    bl_region_type = "UI"
+    bl_category = "Voodoo"
+
+
+class VOODOO_PT_source(_ClipPanel, bpy.types.Panel):
+    """Where frames come from, and the captured frame to outline"""
+
+    bl_label = "Source"
+
+    def draw(self, context):
+        s = context.scene.voodoo
+        layout = self.layout
+        layout.prop(s, "source", expand=True)
+        if s.source == "CAMERA":
+            layout.prop(s, "camera_index")
+            layout.prop(s, "camera_seconds")
+        layout.operator("voodoo.capture_frame", icon="IMAGE_DATA")
+        if s.capture_image is not None:
+            layout.label(
+                text=f"Captured frame {s.capture_index} "
+                f"({s.capture_image.size[0]}x{s.capture_image.size[1]})"
+            )
+
+
+class VOODOO_PT_outline(_ClipPanel, bpy.types.Panel):
+    """The region of the object to track"""
+
+    bl_label = "Outline"
+
+    def draw(self, context):
+        s = context.scene.voodoo
+        col = self.layout.column(align=True)
+        col.operator("voodoo.contour_from_mask", icon="MOD_MASK")
+        col.operator("voodoo.contour_auto", icon="SHADERFX")
+        col.operator("voodoo.sketch_contour", icon="GREASEPENCIL")
+        col.operator("voodoo.clear_contour", icon="X")
+        self.layout.label(text=f"{len(s.contour)} outline points")
+
+
+class VOODOO_PT_blob(_ClipPanel, bpy.types.Panel):
+    """Mesh and mode settings, and the blob's modes"""
+
+    bl_label = "Blob"
+
+    def draw(self, context):
+        s = context.scene.voodoo
+        layout = self.layout
+        col = layout.column(align=True)
+        col.prop(s, "n_modes")
+        col.prop(s, "min_angle")
+        col.prop(s, "max_area")
+        col.prop(s, "poly_degree")
+        layout.operator("voodoo.build_blob", icon="MESH_GRID")
+        if s.blob is not None:
+            layout.label(text=f"Blob: {s.blob.name}")
+        draw_mode_list(layout, s)
+
+
+class VOODOO_PT_record(_ClipPanel, bpy.types.Panel):
+    """Recording takes"""
+
+    bl_label = "Record"
+
+    def draw(self, context):
+        s = context.scene.voodoo
+        layout = self.layout
+        layout.prop(s, "take_name")
+        layout.prop(s, "target")
+        layout.prop(s, "warp")
+        row = layout.row(align=True)
+        row.label(text="Freeze")
+        row.prop(s, "freeze_translation", toggle=True)
+        row.prop(s, "freeze_rotation", toggle=True)
+        row.prop(s, "freeze_scale", toggle=True)
+        layout.operator("voodoo.record_take", icon="REC")
+        layout.operator("voodoo.track_clip", icon="TRACKING_FORWARDS")
+        if s.last_take:
+            layout.label(text=f"Last take: {s.last_take}")
+
+
+classes = (VOODOO_PT_source, VOODOO_PT_outline, VOODOO_PT_blob, VOODOO_PT_record)
