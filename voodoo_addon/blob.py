@@ -307,13 +307,19 @@ def blob_from_bytes(data: bytes, source: str = "the blob data") -> ActiveBlob:
         If the bytes are not a blob file of a version this code reads.
     """
     try:
-        with np.load(io.BytesIO(data), allow_pickle=False) as npz:
+        loaded = np.load(io.BytesIO(data), allow_pickle=False)
+        if not isinstance(loaded, np.lib.npyio.NpzFile):
+            raise ValueError("a single array, not an archive")
+        with loaded as npz:
             arrays = {k: npz[k] for k in npz.files}
     except (OSError, ValueError, EOFError, zipfile.BadZipFile, KeyError) as exc:
         raise VoodooError(f"{source} is not a Voodoo blob file ({exc}).") from None
     if str(arrays.get("format_kind", "")) != FORMAT_KIND:
         raise VoodooError(f"{source} is not a Voodoo blob file (no blob header).")
-    version = int(arrays["format_version"]) if "format_version" in arrays else -1
+    try:
+        version = int(arrays["format_version"]) if "format_version" in arrays else -1
+    except (TypeError, ValueError):
+        version = -1
     if version != FORMAT_VERSION:
         raise VoodooError(
             f"{source} has blob format version {version}; this add-on reads version "

@@ -169,8 +169,23 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+def _quiet_opencv() -> None:
+    """Silence OpenCV's and FFmpeg's own messages.
+
+    They print for unreadable files and absent cameras; the command line reports those as one
+    line of its own.
+    """
+    import os
+
+    import cv2
+
+    os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")
+    cv2.setLogLevel(0)
+
+
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
+    _quiet_opencv()
     if args.command == "track" and not (args.contour or args.blob):
         print("error: track needs --contour (or --blob)", file=sys.stderr)
         return 2

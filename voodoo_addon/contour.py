@@ -177,7 +177,7 @@ def _point_segment_distance(pts: np.ndarray, a: np.ndarray, b: np.ndarray) -> np
 
 
 def _subdivide(points: np.ndarray, tol: float) -> list[int]:
-    """Recursive subdivision (Douglas–Peucker) of an open polyline; kept indices."""
+    """Recursive subdivision (Douglas-Peucker) of an open polyline; kept indices."""
     keep = [0, len(points) - 1]
     stack = [(0, len(points) - 1)]
     while stack:
@@ -193,38 +193,46 @@ def _subdivide(points: np.ndarray, tol: float) -> list[int]:
     return sorted(keep)
 
 
-def _merge(points: np.ndarray, tol: float) -> np.ndarray:
-    """Tolerance-band merging: drop vertices lying within ``tol`` of their neighbours' chord.
+def _span_deviation(points: np.ndarray, i: int, j: int) -> float:
+    """Largest distance from the chord i-j of the points strictly between i and j.
 
-    Vertices are removed one at a time, smallest deviation first, so the band is respected
-    with respect to the *current* neighbours.
+    Indices run cyclically over the original polygon.
     """
-    pts = [tuple(p) for p in points]
-    changed = True
-    while changed and len(pts) > 3:
-        changed = False
-        arr = np.asarray(pts)
-        prev = np.roll(arr, 1, axis=0)
-        nxt = np.roll(arr, -1, axis=0)
-        ab = nxt - prev
-        length = np.linalg.norm(ab, axis=1)
-        length[length == 0] = 1.0
-        dev = np.abs(ab[:, 0] * (arr[:, 1] - prev[:, 1]) - ab[:, 1] * (arr[:, 0] - prev[:, 0]))
-        dev /= length
-        k = int(np.argmin(dev))
-        if dev[k] <= tol:
-            del pts[k]
-            changed = True
-    return np.asarray(pts, dtype=np.float64)
+    n = len(points)
+    idx = np.arange(i + 1, j if j > i else j + n) % n
+    if len(idx) == 0:
+        return 0.0
+    return float(_point_segment_distance(points[idx], points[i], points[j]).max())
 
 
-def simplify_contour(points: np.ndarray, tolerance: float = 1.0, passes: int = 2) -> np.ndarray:
+def _merge(points: np.ndarray, keep: list[int], tol: float) -> list[int]:
+    """Tolerance-band merging on a cyclic list of kept original indices.
+
+    A vertex is dropped when every original point its two chords stood for lies within
+    ``tol`` of the chord joining its neighbours; the vertex with the smallest such deviation
+    goes first, and only its neighbours' deviations change.
+    """
+    keep = list(keep)
+    k = len(keep)
+    dev = [_span_deviation(points, keep[i - 1], keep[(i + 1) % k]) for i in range(k)]
+    while len(keep) > 3:
+        i = int(np.argmin(dev))
+        if dev[i] > tol:
+            break
+        del keep[i], dev[i]
+        k = len(keep)
+        for j in (i - 1, i % k):
+            dev[j % k] = _span_deviation(points, keep[(j - 1) % k], keep[(j + 1) % k])
+    return keep
+
+
+def simplify_contour(points: np.ndarray, tolerance: float = 1.0) -> np.ndarray:
     """Tolerance-band simplification of a closed polygon (paper §7, after Jain et al.).
 
-    Recursive subdivision (Douglas–Peucker, split at the two mutually farthest vertices)
-    alternates with a merging pass that removes vertices closer than ``tolerance`` to the
-    chord of their neighbours. A user sketch needs one merging pass; a pixel chain from
-    contour following needs the subdivision first.
+    Recursive subdivision (Douglas-Peucker, the loop split at vertex 0 and the vertex farthest
+    from it) keeps the vertices needed for a band of half-width ``tolerance``; a merging pass
+    then drops any vertex whose neighbours' chord still keeps every original point within the
+    band. Every original point ends within ``tolerance`` of the result.
 
     Parameters
     ----------
@@ -232,8 +240,6 @@ def simplify_contour(points: np.ndarray, tolerance: float = 1.0, passes: int = 2
         Closed polygon, first point not repeated.
     tolerance : float
         Band half-width in pixels.
-    passes : int
-        Subdivision/merge rounds.
 
     Returns
     -------
@@ -241,23 +247,17 @@ def simplify_contour(points: np.ndarray, tolerance: float = 1.0, passes: int = 2
         The simplified polygon, k >= 3.
     """
     pts = np.asarray(points, dtype=np.float64)
-    if len(pts) <= 3 or tolerance <= 0:
+    n = len(pts)
+    if n <= 3 or tolerance <= 0:
         return pts.copy()
-    for _ in range(passes):
-        n_before = len(pts)
-        # Split the loop at vertex 0 and the vertex farthest from it; simplify both halves.
-        far = int(np.argmax(np.linalg.norm(pts - pts[0], axis=1)))
-        if far == 0:
-            return pts[:3].copy()
-        first = pts[: far + 1]
-        second = np.vstack([pts[far:], pts[:1]])
-        k1 = _subdivide(first, tolerance)
-        k2 = _subdivide(second, tolerance)
-        pts = np.vstack([first[k1[:-1]], second[k2[:-1]]])
-        pts = _merge(pts, tolerance)
-        if len(pts) == n_before:
-            break
-    return pts
+    far = int(np.argmax(np.linalg.norm(pts - pts[0], axis=1)))
+    if far == 0:
+        return pts[:3].copy()
+    first = _subdivide(pts[: far + 1], tolerance)
+    loop = np.vstack([pts[far:], pts[:1]])
+    second = [(far + i) % n for i in _subdivide(loop, tolerance)]
+    keep = sorted(set(first) | set(second))
+    return pts[_merge(pts, keep, tolerance)]
 
 
 def resample_contour(points: np.ndarray, spacing: float) -> np.ndarray:

@@ -48,16 +48,20 @@ class GaussianInterpolant:
         self._scale = float(np.abs(self.nodes - self._origin).max()) or 1.0
         g = self._gauss(self.nodes)  # (m, m)
         p = self._poly(self.nodes)  # (m, 3)
+        if np.linalg.matrix_rank(p, tol=1e-9) < 3:
+            raise VoodooError(
+                "The nodes lie on a line; the interpolant needs a 2-D region. Outline an area."
+            )
         a = np.zeros((m + 3, m + 3))
         a[:m, :m] = g
         a[:m, m:] = p
         a[m:, :m] = p.T
-        try:
-            inv = np.linalg.inv(a)
-        except np.linalg.LinAlgError:
+        if np.linalg.cond(a) > 1e12:
             raise VoodooError(
-                "The interpolation system is singular (nodes collinear?); outline a 2-D region."
-            ) from None
+                "The interpolation system is singular (nodes nearly coincide); outline a "
+                "larger region or use larger triangles."
+            )
+        inv = np.linalg.inv(a)
         self._coef = inv[:, :m]  # (m+3, m): maps nodal values to [c; a]
 
     def _gauss(self, x: np.ndarray) -> np.ndarray:

@@ -13,7 +13,8 @@ MIN_INLIERS = 8
 
 
 def _gray8(image: np.ndarray) -> np.ndarray:
-    return cv2.cvtColor((np.clip(image, 0, 1) * 255).astype(np.uint8), cv2.COLOR_RGB2GRAY)
+    clean = np.nan_to_num(image, nan=0.0, posinf=1.0, neginf=0.0)
+    return cv2.cvtColor((np.clip(clean, 0, 1) * 255).astype(np.uint8), cv2.COLOR_RGB2GRAY)
 
 
 class FeatureMatcher:

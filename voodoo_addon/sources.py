@@ -142,9 +142,9 @@ class CaptureSource(FrameSource):
             super().seek(index)
         if index < 0 or (self.count is not None and index >= self.count):
             raise VoodooError(f"Frame {index} is outside the clip (0..{(self.count or 1) - 1}).")
-        self._pending = None
         if index == self._index:
-            return
+            return  # already next (possibly the frame read ahead at opening)
+        self._pending = None
         self._cap.set(cv2.CAP_PROP_POS_FRAMES, index)
         self._index = index
 

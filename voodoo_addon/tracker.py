@@ -23,6 +23,11 @@ from .reacquire import FeatureMatcher
 from .warp import CpuWarp, WarpBackend
 
 _ONES3 = np.ones(3, dtype=np.float32)
+#: Coarse grid search around each seed pose, coarsest-level pixels.
+SEARCH_RADIUS = 6
+SEARCH_STEP = 3
+#: An update that changes a lighting term by more than this is not converged.
+PHOTOMETRIC_TOLERANCE = 2e-3
 
 
 @dataclass(frozen=True)
@@ -172,6 +177,8 @@ class Tracker:
         self.frame_size = tuple(int(v) for v in blob.frame_size)
         self._floor = 3.0 * float(self.norm.rho(np.array([self.norm.sigma / 2]))[0])
         self._matcher = FeatureMatcher(blob) if opt.features else None
+        lay = self.layout
+        self._photometric = np.r_[lay.brightness, lay.contrast].astype(np.int64)
         self.set_frozen(frozen)
         self.reset()
 
@@ -202,11 +209,18 @@ class Tracker:
         self._prev = None
         self.last_good = a.copy()
         self.lost = False
+        self._last_residual = None
 
     def active(self, level: int) -> np.ndarray:
-        """Free parameters at a pyramid level: coarse levels skip the high modes."""
+        """Free parameters at a pyramid level.
+
+        The coarsest of several levels estimates the similarity and lighting only (a few
+        hundred pixels cannot pin down local bending, and free modes there absorb
+        misalignment on weakly textured dolls); intermediate levels add the lowest modes.
+        """
         lay = self.layout
-        keep_modes = lay.n_modes >> level
+        coarsest = level == len(self.levels) - 1 and level > 0
+        keep_modes = 0 if coarsest else lay.n_modes >> level
         out = [k for k in range(lay.size) if k not in self.frozen]
         return np.array(
             [k for k in out if not (lay.modes.start + keep_modes <= k < lay.modes.stop)],
@@ -262,11 +276,14 @@ class Tracker:
         if conf < need and self._matcher is not None:
             guess = self._matcher.guess(frame, self.blob.centre, self.last_good)
             if guess is not None:
+                frozen = list(self.frozen)
+                guess[frozen] = self.last_good[frozen]
                 a2, c2, i2 = self._register(frame, guess, wide=True)
                 i2["iterations"] += info["iterations"]
                 if c2 > conf:
                     a, conf, info = a2, c2, i2
         if conf >= need:
+            self._last_residual = info["residual"]
             self._prev = None if was_lost else self.state.copy()
             self.state = a
             self.last_good = a.copy()
@@ -315,15 +332,15 @@ class Tracker:
             a[lay.modes] += 0.5 * vel[lay.modes]
         return a
 
-    def _frame_pyramid(self, frame: np.ndarray, a: np.ndarray, wide: bool):
-        """Blurred pyramid of the region around the blob at ``a`` (all of it when wide)."""
+    def _frame_pyramid(self, frame: np.ndarray, poses, wide: bool):
+        """Blurred pyramid of the region around the blob at ``poses`` (all of it when wide)."""
         h, w = frame.shape[:2]
         align = 2 ** (len(self.levels) - 1)
         if wide:
             x0 = y0 = 0
             x1, y1 = w, h
         else:
-            nodes = self.nodes(a)
+            nodes = np.vstack([self.nodes(a) for a in poses])
             lo, hi = nodes.min(axis=0), nodes.max(axis=0)
             margin = max(0.3 * float((hi - lo).max()), 12.0 * align)
             x0 = int(np.clip(np.floor((lo[0] - margin) / align) * align, 0, w))
@@ -338,34 +355,42 @@ class Tracker:
     def _register(self, frame: np.ndarray, start: np.ndarray, wide: bool):
         """Register from ``start``; returns (params, confidence, info).
 
-        When not searching wide, the finest level is tried first: if its first update is
-        small the prediction was good and the coarse levels are skipped; otherwise the
-        estimate restarts from ``start`` coarse to fine.
+        1. Unless searching wide, the finest level is tried first: when the prediction was
+           good that is all a frame needs.
+        2. Otherwise coarse to fine from the prediction and from the unpredicted pose (the
+           motion may have reversed), keeping the better.
+        3. If that still fits much worse than the last frame did (or the search is wide), a
+           grid search over translations at the coarsest level seeds one more descent.
         """
         info = {"iterations": 0, "residual": np.inf, "occluded": 1.0}
         if not np.isfinite(start).all():
             return start, 0.0, info
-        pyr = self._frame_pyramid(frame, start, wide)
+        seeds = [start]
+        if not wide and not np.allclose(self.state, start):
+            seeds.append(self.state)
+        pyr = self._frame_pyramid(frame, seeds, wide)
         if pyr is None:
             return start, 0.0, info
         images, origin = pyr
-        order = list(reversed(self.levels))
-        a, last = start.copy(), None
-        if not wide and len(order) > 1:
-            a, last, its = self._iterate(self.levels[0], images[0], a, origin, bail=True)
+        known = self._last_residual
+        limit = 3.0 * known if known is not None and not wide else 0.0
+        best = None
+        if not wide and len(self.levels) > 1:
+            a, last, its = self._iterate(self.levels[0], images[0], start, origin, bail=limit)
             info["iterations"] += its
             if last is not None:
-                order = []
-            else:
-                a = start.copy()
-        for level in order:
-            cap = self.options.max_iterations * (3 if wide and level.index else 1)
-            a, last, its = self._iterate(level, images[level.index], a, origin, cap=cap)
-            info["iterations"] += its
-            if last is None:
-                return start, 0.0, info
-        if not self._plausible(a):
+                best = (a, last)
+        if best is None:
+            for seed in seeds:
+                best = self._better(best, self._descend(images, origin, seed, wide, info))
+            if best is None or best[1].residual > limit:
+                top = self.levels[-1]
+                seed, its = self._coarse_search(top, images[top.index], origin, seeds)
+                info["iterations"] += its
+                best = self._better(best, self._descend(images, origin, seed, wide, info))
+        if best is None or not self._plausible(best[0]):
             return start, 0.0, info
+        a, last = best
         info["residual"] = last.residual
         if last.weighted:
             info["occluded"] = 1.0 - float(np.count_nonzero(last.use)) / len(last.use)
@@ -373,11 +398,61 @@ class Tracker:
             info["occluded"] = 0.0
         return a, self._confidence(self.levels[0], last), info
 
-    def _iterate(self, level: Level, image, a, origin, cap=None, bail=False):
+    @staticmethod
+    def _better(a, b):
+        """The (params, evaluation) pair with the lower finest-level residual."""
+        if a is None:
+            return b
+        if b is None:
+            return a
+        return b if b[1].residual < a[1].residual else a
+
+    def _descend(self, images, origin, start, wide: bool, info: dict):
+        """Coarse to fine from ``start``; (params, finest evaluation) or None."""
+        a, last = start.copy(), None
+        for level in reversed(self.levels):
+            cap = self.options.max_iterations * (3 if wide and level.index else 1)
+            a, last, its = self._iterate(level, images[level.index], a, origin, cap=cap)
+            info["iterations"] += its
+            if last is None:
+                return None
+        return a, last
+
+    def _coarse_search(self, level: Level, image, origin, seeds):
+        """The best start among seed poses shifted on a grid, by robust residual.
+
+        Evaluated at the coarsest level only (a few hundred pixels), this widens the capture
+        range of the pyramid to about :data:`SEARCH_RADIUS` coarse pixels around each seed,
+        enough for a reversal of 15 px/frame motion on smooth, photo-like textures.
+
+        Returns (params, evaluations).
+        """
+        self._solver(level)  # may build a basis (which binds the template) first
+        self.backend.bind(image)
+        org = (origin * level.scale).astype(np.float32)
+        box = np.array([image.shape[1] - 1, image.shape[0] - 1], dtype=np.float32)
+        offsets = np.arange(-SEARCH_RADIUS, SEARCH_RADIUS + 1, SEARCH_STEP) / level.scale
+        best, best_res, its = seeds[0], np.inf, 0
+        for seed in seeds:
+            for dy in offsets:
+                for dx in offsets:
+                    a = seed.copy()
+                    a[0] += dx
+                    a[1] += dy
+                    ev = self._evaluate(level, a, org, box)
+                    its += 1
+                    if ev is None or np.count_nonzero(ev.use) < 0.5 * len(level):
+                        continue
+                    if ev.residual < best_res:
+                        best, best_res = a, ev.residual
+        return best.copy(), its
+
+    def _iterate(self, level: Level, image, a, origin, cap=None, bail=None):
         """Iterate difference decomposition at one level.
 
-        Returns (params, last evaluation or None, evaluations). With ``bail``, gives up
-        (returning None) when the first update is too large for this level.
+        Returns (params, last evaluation or None, evaluations). With ``bail`` (a residual),
+        gives up (returning None) when the first update is too large for this level
+        (``fine_capture``) while the residual there is above ``bail``: the prediction missed.
         """
         opt = self.options
         solver = self._solver(level)  # may build a basis (which binds the template) first
@@ -411,10 +486,11 @@ class Tracker:
             new = compose(a, delta, self.layout)
             nodes_new = self.nodes(new)
             step = float(np.sqrt(((nodes_new - nodes_a) ** 2).sum(axis=1).mean()))
-            if bail and its == 1 and step > opt.fine_capture:
+            if bail is not None and its == 1 and step > opt.fine_capture and ev.residual > bail:
                 return a, None, its
             a, nodes_a = new, nodes_new
-            if step < tol:
+            lighting = np.abs(delta[self._photometric]).max(initial=0.0)
+            if step < tol and lighting < PHOTOMETRIC_TOLERANCE:
                 best_a = a
                 break
         return best_a, best, its
@@ -458,7 +534,9 @@ class Tracker:
             r_block = np.where(seen, vsum / np.maximum(vcount, 1.0), 0.0)
         weight = seen.astype(np.float64)
         use = valid
-        if seen.any():
+        # Occlusion rejection only at full resolution: on coarse levels a block that is merely
+        # misaligned looks occluded, and dropping it loses the texture that would align it.
+        if seen.any() and level.index == 0:
             med = float(np.median(r_block[seen]))
             limit = self.options.outlier_factor * max(med, self._floor)
             out = seen & (r_block > limit)
@@ -479,7 +557,7 @@ class Tracker:
             residual = float(loss.mean())
         return _Eval(samples, dbar, valid, use, weight, residual, weighted)
 
-    def _solve(self, solver: Solver, level: Level, ev: _Eval, a_act: np.ndarray) -> np.ndarray:
+    def _solve(self, solver: Solver, level: Level, ev: _Eval, a_act) -> np.ndarray:
         """Parameter update (active parameters) from one evaluation.
 
         Unweighted: the precomputed ``N B+`` of Eq. 14-15 with the Eq. 10 prior. Weighted

@@ -1,0 +1,230 @@
+"""The whole sequence through the operators: capture, mask -> outline, build, track, apply."""
+
+import bpy
+import numpy as np
+import pytest
+
+
+def _evaluated_world(obj):
+    deps = bpy.context.evaluated_depsgraph_get()
+    ev = obj.evaluated_get(deps)
+    mesh = ev.to_mesh()
+    co = np.empty(len(mesh.vertices) * 3)
+    mesh.vertices.foreach_get("co", co)
+    ev.to_mesh_clear()
+    m = np.array(ev.matrix_world)
+    return co.reshape(-1, 3) @ m[:3, :3].T + m[:3, 3]
+
+
+def _prediction(sub, obj, row):
+    """What the engine says the target looks like at a take row."""
+    store = sub("operators.store")
+    apply = sub("operators.apply")
+    rt = sub("voodoo_addon.retarget")
+    s = bpy.context.scene.voodoo
+    link = obj[apply.LINK_KEY]
+    blob = store.load_blob(s.blob)
+    take = store.load_take(s.blob, link["take"])
+    layout = apply.layout_for(blob, take)
+    mapping = rt.mapping_from_list(link["axes"], link["mapping"])
+    rest = apply.rest_vertices(obj)
+    modes = [m for m in s.modes if m.enabled]
+    offsets = rt.mode_offsets(blob, mapping, rest, [m.index for m in modes])
+    offsets *= np.array([m.gain for m in modes])[:, None, None]
+    values = take.params[row, [layout.modes.start + m.index for m in modes]] / rt.unit(blob)
+    use = (s.apply_location, s.apply_rotation, s.apply_scale)
+    delta = rt.rigid_transforms(take.params[row : row + 1], layout, blob, mapping, use)[0]
+    rest_matrix = np.array(link["rest_matrix"]).reshape(4, 4)
+    return rt.predict_vertices(rest, offsets, values, rest_matrix @ delta), take
+
+
+def _track(ctx, target):
+    ctx.scene.voodoo.target = target
+    assert bpy.ops.voodoo.track_clip() == {"FINISHED"}
+    return ctx.scene.voodoo.last_take
+
+
+def test_flat_cutout_take(prepared, sub, make):
+    ctx = prepared
+    s = ctx.scene.voodoo
+    obj = make.flat_target()
+    old_action = obj.animation_data.action
+    take_name = _track(ctx, obj)
+    # one shape key per selected mode (plus the Basis)
+    names = [kb.name for kb in obj.data.shape_keys.key_blocks]
+    assert names[0] == "Basis"
+    assert names[1:] == [f"Doll:{m.name}" for m in s.modes if m.enabled]
+    # a new action named after the take, with an object slot and a key slot
+    action = obj.animation_data.action
+    assert action is not old_action and action.name.startswith(take_name)
+    assert obj.data.shape_keys.animation_data.action is action
+    assert {slot.target_id_type for slot in action.slots} == {"OBJECT", "KEY"}
+    # the animation that was there survives in the NLA
+    strips = [st for tr in obj.animation_data.nla_tracks for st in tr.strips]
+    assert [st.action for st in strips] == [old_action]
+    # keys on every tracked frame
+    store = sub("operators.store")
+    apply = sub("operators.apply")
+    take = store.load_take(s.blob, take_name)
+    frames = apply.take_frames(s.blob, take_name, take)
+    assert not take.lost.any()
+    from bpy_extras import anim_utils
+
+    for id_data in (obj, obj.data.shape_keys):
+        bag = anim_utils.action_get_channelbag_for_slot(action, id_data.animation_data.action_slot)
+        assert len(bag.fcurves) > 0
+        for fc in bag.fcurves:
+            keyed = [int(round(k.co[0])) for k in fc.keyframe_points]
+            assert keyed == frames.tolist()
+    # Blender evaluates exactly what the engine predicts
+    for row in (5, 12, len(frames) - 1):
+        ctx.scene.frame_set(int(frames[row]))
+        predicted, _ = _prediction(sub, obj, row)
+        got = _evaluated_world(obj)
+        scale = np.abs(predicted).max()
+        assert np.abs(got - predicted).max() < 1e-4 * scale
+
+
+def test_doll_shaped_target_follows_tracked_nodes(prepared, sub):
+    """A character whose vertices sit on the doll's nodes moves exactly like the tracked nodes."""
+    ctx = prepared
+    s = ctx.scene.voodoo
+    store = sub("operators.store")
+    rt = sub("voodoo_addon.retarget")
+    blob = store.load_blob(s.blob)
+    # the doll laid onto the XZ plane at 1 unit = 50 px, centred at the origin
+    v = np.zeros((blob.n_nodes, 3))
+    centre = 0.5 * (blob.vertices.min(axis=0) + blob.vertices.max(axis=0))
+    v[:, 0] = (blob.vertices[:, 0] - centre[0]) / 50.0
+    v[:, 2] = -(blob.vertices[:, 1] - centre[1]) / 50.0
+    mesh = bpy.data.meshes.new("DollShape")
+    mesh.from_pydata(v.tolist(), [], blob.triangles.tolist())
+    obj = bpy.data.objects.new("DollShape", mesh)
+    ctx.scene.collection.objects.link(obj)
+    take_name = _track(ctx, obj)
+    take = store.load_take(s.blob, take_name)
+    mapping = rt.mapping_from_list("XZ", obj["voodoo"]["mapping"])
+    assert mapping.scale == pytest.approx(1 / 50.0)
+    frames = sub("operators.apply").take_frames(s.blob, take_name, take)
+    for row in (4, 10, 19):
+        ctx.scene.frame_set(int(frames[row]))
+        expected = mapping.to_target(take.vertices[row])
+        got = _evaluated_world(obj)
+        assert np.abs(got - expected).max() < 2e-4  # units; a node is 1/50 unit per pixel
+
+
+def test_solid_3d_target(prepared, sub, make):
+    ctx = prepared
+    s = ctx.scene.voodoo
+    obj = make.solid_target()
+    rest = np.array([v.co for v in obj.data.vertices])
+    take_name = _track(ctx, obj)
+    keys = obj.data.shape_keys.key_blocks
+    assert len(keys) == 1 + sum(m.enabled for m in s.modes)
+    # shapes deform the XZ plane only: depth (Y) is untouched
+    for kb in keys[1:]:
+        co = np.array([p.co for p in kb.data])
+        assert np.abs(co[:, 1] - rest[:, 1]).max() < 1e-6
+        assert np.abs(co[:, [0, 2]] - rest[:, [0, 2]]).max() > 1e-4
+    take = sub("operators.store").load_take(s.blob, take_name)
+    frames = sub("operators.apply").take_frames(s.blob, take_name, take)
+    ctx.scene.frame_set(int(frames[15]))
+    predicted, _ = _prediction(sub, obj, 15)
+    assert np.abs(_evaluated_world(obj) - predicted).max() < 1e-4 * np.abs(predicted).max()
+
+
+def test_mode_subset_toggle_and_gain(prepared, sub, make):
+    ctx = prepared
+    s = ctx.scene.voodoo
+    assert bpy.ops.voodoo.select_modes(preset="BENDING") == {"FINISHED"}
+    bending = [m.name for m in s.modes if m.enabled]
+    assert bending and all("bend" in n for n in bending)
+    assert not (s.apply_location or s.apply_rotation or s.apply_scale)
+    obj = make.flat_target(keyed=False)
+    _track(ctx, obj)
+    keys = obj.data.shape_keys.key_blocks
+    assert [kb.name for kb in keys[1:]] == [f"Doll:{n}" for n in bending]
+    # transform curves are written but muted: no rigid motion reaches the target
+    from bpy_extras import anim_utils
+
+    bag = anim_utils.action_get_channelbag_for_slot(
+        obj.animation_data.action, obj.animation_data.action_slot
+    )
+    assert bag.fcurves and all(fc.mute for fc in bag.fcurves)
+    # switching on a mode that was not applied writes it from the stored take, no tracking
+    other = next(m for m in s.modes if not m.enabled)
+    other.enabled = True
+    kb = keys.get(f"Doll:{other.name}")
+    assert kb is not None and not kb.mute
+    key_bag = anim_utils.action_get_channelbag_for_slot(
+        obj.data.shape_keys.animation_data.action, obj.data.shape_keys.animation_data.action_slot
+    )
+    fc = key_bag.fcurves.find(f'key_blocks["{kb.name}"].value')
+    assert fc is not None and len(fc.keyframe_points) == 20 and not fc.mute
+    # switching it off mutes both the key and its curve
+    other.enabled = False
+    assert kb.mute and fc.mute
+    # gain scales the shape's offset
+    mode = (
+        s.modes[bending[0]]
+        if bending[0] in s.modes
+        else next(m for m in s.modes if m.name == bending[0])
+    )
+    basis = np.array([p.co for p in keys[0].data])
+    before = np.array([p.co for p in keys[f"Doll:{mode.name}"].data]) - basis
+    mode.gain = 2.0
+    after = np.array([p.co for p in keys[f"Doll:{mode.name}"].data]) - basis
+    assert np.allclose(after, 2.0 * before, atol=1e-6)
+    # rigid toggles unmute the transform curves
+    s.apply_rotation = True
+    assert all(not fc.mute for fc in bag.fcurves if fc.data_path.startswith("rotation"))
+
+
+def test_applying_again_keeps_previous_take(prepared, make):
+    ctx = prepared
+    obj = make.flat_target(keyed=False)
+    _track(ctx, obj)
+    first = obj.animation_data.action
+    assert bpy.ops.voodoo.apply_take() == {"FINISHED"}
+    second = obj.animation_data.action
+    assert second is not first
+    assert first in [st.action for tr in obj.animation_data.nla_tracks for st in tr.strips]
+
+
+def test_smoothing_uses_blenders_filter(prepared, sub, make):
+    ctx = prepared
+    obj = make.flat_target(keyed=False)
+    _track(ctx, obj)
+    from bpy_extras import anim_utils
+
+    key = obj.data.shape_keys
+    bag = anim_utils.action_get_channelbag_for_slot(
+        key.animation_data.action, key.animation_data.action_slot
+    )
+    fc = bag.fcurves[0]
+    before = np.array([k.co[1] for k in fc.keyframe_points])
+    rng = np.random.default_rng(1)
+    for k, jitter in zip(fc.keyframe_points, rng.normal(0, 0.3, len(before)), strict=True):
+        k.co[1] += jitter
+    noisy = np.array([k.co[1] for k in fc.keyframe_points])
+    assert bpy.ops.voodoo.smooth_take(cutoff=2.0) == {"FINISHED"}
+    smooth = np.array([k.co[1] for k in fc.keyframe_points])
+    assert len(smooth) == len(before)  # still ordinary, editable keys
+    assert np.abs(np.diff(smooth, 2)).mean() < 0.5 * np.abs(np.diff(noisy, 2)).mean()
+
+
+def test_live_recorder_poses_a_stand_in(prepared, sub, make):
+    """The modal operator's per-frame step, called directly (no event loop in bpy)."""
+    ctx = prepared
+    obj = make.flat_target(keyed=False)
+    ctx.scene.voodoo.target = obj
+    rec = sub("operators.recorder").Recorder(ctx, max_frames=6, live=True)
+    names_during = set()
+    while rec.step():
+        names_during |= {o.name for o in ctx.scene.objects}
+    assert f"{obj.name} (recording)" in names_during
+    assert ctx.scene.frame_current == 6  # the scene follows the take
+    info = rec.finish()
+    assert info["frames"] == 6 and info["applied"]
+    assert {o.name for o in ctx.scene.objects} == {obj.name}
+    assert obj.visible_get()

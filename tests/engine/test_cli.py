@@ -1,0 +1,277 @@
+"""The command line, run the way a user runs it: ``python -m voodoo_addon ...`` in a subprocess.
+
+Contract (DESIGN.md): exit code 0 on success, 2 with a one-line message on stderr on bad input.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import cv2
+import numpy as np
+import pytest
+
+from voodoo_addon.blob import load_blob
+from voodoo_addon.contour import save_contour_json
+from voodoo_addon.images import write_image
+from voodoo_addon.params import SIMILARITY
+from voodoo_addon.synthetic import scenario_take, write_frames
+
+N_FRAMES = 36  # more than 30: the progress bar is shown unless --quiet
+
+
+def run_cli(repo_root, *args, timeout=300):
+    return subprocess.run(
+        [sys.executable, "-m", "voodoo_addon", *map(str, args)],
+        cwd=repo_root,
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+    )
+
+
+def assert_clean_failure(proc):
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1, proc.stderr
+    assert lines[0].startswith("error:")
+    assert "Traceback" not in proc.stderr
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory):
+    """A synthetic take on disk: the clip (lossless AVI), its first frame, its outline."""
+    d = tmp_path_factory.mktemp("cli")
+    frames, contour, truth = scenario_take("translate", N_FRAMES, (320, 240), blob_pixels=5000)
+    write_frames(d / "clip.avi", frames)
+    write_image(d / "frame.png", frames[0])
+    save_contour_json(d / "contour.json", contour)
+    (d / "notes.mp4").write_text("not a video\n" * 20)
+    return d, truth
+
+
+def test_blob_writes_blob_and_preview(repo_root, files, tmp_path):
+    d, _ = files
+    out, preview = tmp_path / "b.npz", tmp_path / "p.png"
+    proc = run_cli(
+        repo_root,
+        "blob",
+        d / "frame.png",
+        "--contour",
+        d / "contour.json",
+        "--out",
+        out,
+        "--preview",
+        preview,
+    )
+    assert proc.returncode == 0, proc.stderr
+    blob = load_blob(out)
+    assert blob.n_modes == 14
+    np.testing.assert_array_equal(blob.frame_size, [320, 240])
+    pic = cv2.imread(str(preview))
+    assert pic is not None and pic.ndim == 3 and pic.size > 0
+    assert str(out) in proc.stdout
+
+
+def test_blob_options_are_passed_on(repo_root, files, tmp_path):
+    d, _ = files
+    out = tmp_path / "b.npz"
+    proc = run_cli(
+        repo_root,
+        "blob",
+        d / "frame.png",
+        "--contour",
+        d / "contour.json",
+        "--out",
+        out,
+        "--modes",
+        6,
+        "--poly-degree",
+        0,
+        "--min-angle",
+        30,
+    )
+    assert proc.returncode == 0, proc.stderr
+    blob = load_blob(out)
+    assert blob.n_modes == 6
+    assert blob.mesh.min_angle() >= 30 - 1e-6
+    # poly_degree=0: plain FE modes (K phi = w^2 M phi with the projector, scale separated).
+    r = blob.constrained
+    proj = np.eye(len(blob.mass)) - r @ r.T @ blob.mass
+    lhs = proj.T @ blob.stiffness @ blob.modes
+    np.testing.assert_allclose(
+        lhs, blob.mass @ blob.modes * blob.stiffness_penalty, atol=1e-9 * np.abs(lhs).max()
+    )
+
+
+def _bad_blob_inputs(d, tmp_path):
+    bowtie = tmp_path / "bowtie.json"
+    bowtie.write_text(json.dumps({"points": [[50, 50], [150, 150], [150, 50], [50, 150]]}))
+    malformed = tmp_path / "malformed.json"
+    malformed.write_text('{"points": [[50, 50], [150, 150]')
+    wrong = tmp_path / "wrong.json"
+    wrong.write_text(json.dumps([[50, 50], [150, 50], [150, 150]]))
+    outside = tmp_path / "outside.json"
+    outside.write_text(json.dumps({"points": [[50, 50], [500, 50], [500, 150]]}))
+    return {
+        "missing-frame": (tmp_path / "nope.png", d / "contour.json"),
+        "not-a-picture": (d / "contour.json", d / "contour.json"),
+        "missing-contour": (d / "frame.png", tmp_path / "nope.json"),
+        "self-intersecting": (d / "frame.png", bowtie),
+        "malformed-json": (d / "frame.png", malformed),
+        "no-points-key": (d / "frame.png", wrong),
+        "off-frame": (d / "frame.png", outside),
+    }
+
+
+@pytest.mark.parametrize(
+    "case",
+    [
+        "missing-frame",
+        "not-a-picture",
+        "missing-contour",
+        "self-intersecting",
+        "malformed-json",
+        "no-points-key",
+        "off-frame",
+    ],
+)
+def test_blob_bad_input_exits_2(repo_root, files, tmp_path, case):
+    d, _ = files
+    frame, contour = _bad_blob_inputs(d, tmp_path)[case]
+    out = tmp_path / "b.npz"
+    proc = run_cli(repo_root, "blob", frame, "--contour", contour, "--out", out)
+    assert_clean_failure(proc)
+    assert not out.exists()
+
+
+def test_track_writes_the_contract_npz(repo_root, files, tmp_path):
+    d, truth = files
+    out = tmp_path / "t.npz"
+    proc = run_cli(
+        repo_root,
+        "track",
+        d / "clip.avi",
+        "--contour",
+        d / "contour.json",
+        "--out",
+        out,
+        "--quiet",
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr == ""  # --quiet: no progress bar
+    with np.load(out, allow_pickle=False) as npz:
+        v, tri = npz["vertices"], npz["triangles"]
+        params, conf, labels = npz["params"], npz["confidence"], npz["mode_labels"]
+    t, n = v.shape[:2]
+    assert t == N_FRAMES
+    assert v.shape == (t, n, 2) and v.dtype.kind == "f"
+    assert tri.ndim == 2 and tri.shape[1] == 3 and tri.dtype.kind == "i"
+    assert tri.min() == 0 and tri.max() == n - 1
+    assert params.shape == (t, labels.shape[0]) and params.dtype.kind == "f"
+    assert conf.shape == (t,) and conf.dtype.kind == "f"
+    assert ((conf >= 0) & (conf <= 1)).all()
+    assert labels.ndim == 1 and labels.dtype.kind == "U"
+    assert tuple(labels[:4]) == SIMILARITY
+    assert len(labels) == 4 + 14 + 6
+    assert np.isfinite(v).all() and np.isfinite(params).all()
+    # And the motion is right (the file is lossless): rest nodes follow the true motion.
+    err = [np.linalg.norm(v[i] - truth(i, v[0]), axis=1).mean() for i in range(t)]
+    assert np.mean(err) < 0.5
+
+
+def test_track_progress_goes_to_stderr(repo_root, files, tmp_path):
+    d, _ = files
+    out = tmp_path / "t.npz"
+    proc = run_cli(
+        repo_root,
+        "track",
+        d / "clip.avi",
+        "--contour",
+        d / "contour.json",
+        "--out",
+        out,
+        "--modes",
+        6,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert f"{N_FRAMES}/{N_FRAMES}" in proc.stderr
+    assert "tracking" not in proc.stdout
+    assert len(proc.stdout.strip().splitlines()) == 1
+    assert proc.stdout.startswith("track:")
+    with np.load(out, allow_pickle=False) as npz:
+        assert npz["params"].shape[1] == 4 + 6 + 6
+
+
+@pytest.mark.parametrize(
+    "video", ["notes.mp4", "missing.avi", "camera:97"], ids=["not-a-video", "missing", "camera"]
+)
+def test_track_unreadable_video_exits_2(repo_root, files, tmp_path, video):
+    d, _ = files
+    target = video if video.startswith("camera:") else d / video
+    out = tmp_path / "t.npz"
+    proc = run_cli(repo_root, "track", target, "--contour", d / "contour.json", "--out", out)
+    assert_clean_failure(proc)
+    assert not out.exists()
+
+
+def test_track_bad_contour_exits_2(repo_root, files, tmp_path):
+    d, _ = files
+    bowtie = tmp_path / "bowtie.json"
+    bowtie.write_text(json.dumps({"points": [[50, 50], [150, 150], [150, 50], [50, 150]]}))
+    proc = run_cli(
+        repo_root, "track", d / "clip.avi", "--contour", bowtie, "--out", tmp_path / "t.npz"
+    )
+    assert_clean_failure(proc)
+
+
+def test_track_without_contour_exits_2(repo_root, files, tmp_path):
+    d, _ = files
+    proc = run_cli(repo_root, "track", d / "clip.avi", "--out", tmp_path / "t.npz")
+    assert_clean_failure(proc)
+
+
+def test_track_unknown_frozen_parameter_exits_2(repo_root, files, tmp_path):
+    d, _ = files
+    proc = run_cli(
+        repo_root,
+        "track",
+        d / "clip.avi",
+        "--contour",
+        d / "contour.json",
+        "--out",
+        tmp_path / "t.npz",
+        "--freeze",
+        "rotation",
+        "--frames",
+        2,
+    )
+    assert_clean_failure(proc)
+
+
+def test_segment_writes_a_contour(repo_root, tmp_path):
+    from voodoo_addon.synthetic import Pose, foam_scene
+
+    scene, _ = foam_scene(320, 240, 8000)
+    frame = tmp_path / "f.png"
+    write_image(frame, scene.render(Pose()))
+    out = tmp_path / "c.json"
+    proc = run_cli(repo_root, "segment", frame, "--point", 160, 120, "--out", out)
+    assert proc.returncode == 0, proc.stderr
+    pts = np.array(json.loads(out.read_text())["points"])
+    assert pts.ndim == 2 and pts.shape[1] == 2 and len(pts) >= 8
+    proc = run_cli(repo_root, "segment", frame, "--point", 5, 5, "--out", tmp_path / "d.json")
+    assert_clean_failure(proc)
+
+
+@pytest.mark.slow
+def test_bench_prints_one_json_line(repo_root):
+    # DESIGN.md: `python -m voodoo_addon bench --json` prints one JSON line of the benchmark.
+    proc = run_cli(repo_root, "bench", "--json", "--quick", timeout=300)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    lines = proc.stdout.strip().splitlines()
+    assert len(lines) == 1
+    report = json.loads(lines[0])
+    assert isinstance(report, dict) and report

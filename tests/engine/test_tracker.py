@@ -1,0 +1,335 @@
+"""The tracker against ground truth: synthetic takes with known motion (voodoo_addon.synthetic).
+
+Error measure: the mean over frames and nodes of |tracked node - true position of that node|,
+where the true position is the scene's forward map of the blob's rest-pose vertices.
+"""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+import pytest
+import skimage.data
+
+from voodoo_addon.blob import build_blob
+from voodoo_addon.errors import VoodooError
+from voodoo_addon.synthetic import Pose, foam_scene, scenario_poses, scenario_take
+from voodoo_addon.tracker import Tracker, TrackerOptions, TrackResult
+
+FRAMES = 24
+SIZE = (320, 240)
+#: Mean node error allowed over a take, pixels.
+MAX_MEAN_ERROR = 0.5
+#: ... and in any single frame.
+MAX_FRAME_ERROR = 1.0
+
+
+class Take:
+    """A rendered clip, its blob, and the tracker's results on it."""
+
+    def __init__(self, frames, contour, truth, tracker_kwargs=None):
+        self.frames, self.contour, self.truth = frames, contour, truth
+        self.blob = build_blob(frames[0], contour)
+        self.tracker = Tracker(self.blob, **(tracker_kwargs or {}))
+        self.results = [self.tracker.track(f) for f in frames]
+
+    def errors(self) -> np.ndarray:
+        """Mean node error (T,) of every frame."""
+        return np.array(
+            [
+                np.linalg.norm(r.nodes - self.truth(i, self.blob.vertices), axis=1).mean()
+                for i, r in enumerate(self.results)
+            ]
+        )
+
+    @property
+    def params(self):
+        return np.array([r.params for r in self.results])
+
+
+_CACHE: dict = {}
+
+
+def scenario(name: str, frames: int = FRAMES) -> Take:
+    key = ("scenario", name, frames)
+    if key not in _CACHE:
+        _CACHE[key] = Take(*scenario_take(name, frames, SIZE, blob_pixels=5000))
+    return _CACHE[key]
+
+
+def _photo(name: str) -> np.ndarray:
+    img = getattr(skimage.data, name)()
+    img = cv2.resize(img, SIZE, interpolation=cv2.INTER_AREA)
+    return (img.astype(np.float32) / 255.0)[:, :, :3]
+
+
+def photo_take(photo: str, name: str, frames: int = FRAMES) -> Take:
+    """A scenario with a photograph as the object's surface instead of painted foam."""
+    key = ("photo", photo, name, frames)
+    if key not in _CACHE:
+        scene, contour = foam_scene(*SIZE, 5000, texture=_photo(photo))
+        poses = scenario_poses(name, scene, frames, SIZE)
+        rng = np.random.default_rng(7)
+        images = [scene.render(p, noise=0.01, rng=rng) for p in poses]
+        _CACHE[key] = Take(images, contour, lambda i, pts: scene.forward(poses[i], pts))
+    return _CACHE[key]
+
+
+def assert_sane(res: TrackResult, n_params: int, n_nodes: int):
+    assert res.params.shape == (n_params,)
+    assert res.nodes.shape == (n_nodes, 2)
+    assert np.isfinite(res.params).all()
+    assert np.isfinite(res.nodes).all()
+    assert np.isfinite(res.confidence) and 0.0 <= res.confidence <= 1.0
+    assert isinstance(res.lost, bool)
+
+
+# ------------------------------------------------------------------------- accuracy
+
+GROUND_TRUTH = ["translate", "rotate", "scale", "bend", "lighting", "occluder", "noise", "mixed"]
+
+
+@pytest.mark.parametrize("name", GROUND_TRUTH)
+def test_tracks_ground_truth_scenario(name):
+    take = scenario(name)
+    err = take.errors()
+    for r in take.results:
+        assert_sane(r, take.tracker.layout.size, take.blob.n_nodes)
+    assert err.mean() < MAX_MEAN_ERROR, f"mean node error {err.mean():.3f} px"
+    assert err.max() < MAX_FRAME_ERROR, f"frame {err.argmax()} is off by {err.max():.2f} px"
+    assert not any(r.lost for r in take.results)
+
+
+@pytest.mark.parametrize("name", ["translate", "rotate", "mixed"])
+@pytest.mark.parametrize("photo", ["astronaut", "coffee"])
+def test_tracks_a_photo_textured_object(photo, name):
+    take = photo_take(photo, name)
+    err = take.errors()
+    for r in take.results:
+        assert_sane(r, take.tracker.layout.size, take.blob.n_nodes)
+    assert err.mean() < MAX_MEAN_ERROR, (
+        f"mean node error {err.mean():.3f} px; worst frame {err.argmax()} ({err.max():.2f} px)"
+    )
+
+
+def test_capture_frame_registers_to_identity():
+    take = scenario("translate")
+    res = take.results[0]
+    np.testing.assert_allclose(res.nodes, take.blob.vertices, atol=0.05)
+    assert res.confidence > 0.95
+    assert np.abs(res.params).max() < 0.05
+    assert not res.lost and not res.reacquired
+
+
+def test_rotation_parameter_follows_a_full_turn():
+    take = scenario("rotate")
+    scene, _ = foam_scene(*SIZE, 5000)
+    theta = np.array([p.theta for p in scenario_poses("rotate", scene, FRAMES, SIZE)])
+    # Continuous, not wrapped: ends near 2 pi.
+    np.testing.assert_allclose(take.params[:, 2], theta, atol=0.01)
+
+
+def test_scale_parameter_follows_the_zoom():
+    take = scenario("scale")
+    scene, _ = foam_scene(*SIZE, 5000)
+    log_s = np.array([p.log_scale for p in scenario_poses("scale", scene, FRAMES, SIZE)])
+    np.testing.assert_allclose(take.params[:, 3], log_s, atol=0.02)
+
+
+def test_photometric_parameters_follow_the_lighting():
+    scene, contour = foam_scene(*SIZE, 5000)
+    # c + b <= 1 and b >= 0: nothing saturates, so frame = c I0 + b holds exactly.
+    lights = [(1.0, 0.0), (0.8, 0.05), (0.9, 0.0), (0.75, 0.1), (0.95, 0.03), (0.7, 0.2)]
+    poses = [Pose(contrast=c, brightness=b) for c, b in lights]
+    frames = [scene.render(p) for p in poses]
+    blob = build_blob(frames[0], contour)
+    tracker = Tracker(blob)
+    lay = tracker.layout
+    for frame, (c_true, b_true) in zip(frames, lights, strict=True):
+        np.testing.assert_allclose(frame, c_true * frames[0] + b_true, atol=1e-6)
+        res = tracker.track(frame)
+        c, b = lay.channel_gain_offset(res.params)
+        np.testing.assert_allclose(c, c_true, atol=0.02)
+        np.testing.assert_allclose(b, b_true, atol=0.015)
+        np.testing.assert_allclose(res.nodes, blob.vertices, atol=0.2)
+
+
+# ------------------------------------------------------------------------- loss and recovery
+
+
+@pytest.fixture(scope="module")
+def exit_take():
+    return scenario("exit", frames=30)
+
+
+def test_exit_and_return_never_gives_nan(exit_take):
+    for r in exit_take.results:
+        assert_sane(r, exit_take.tracker.layout.size, exit_take.blob.n_nodes)
+
+
+def test_lost_while_out_of_the_frame(exit_take):
+    w = SIZE[0]
+    gone = [
+        i
+        for i in range(len(exit_take.frames))
+        if (exit_take.truth(i, exit_take.blob.vertices)[:, 0] > w - 0.5).all()
+    ]
+    assert len(gone) >= 5  # the scenario really leaves the picture
+    conf = np.array([r.confidence for r in exit_take.results])
+    lost_below = exit_take.tracker.options.lost_below
+    for i in gone:
+        assert exit_take.results[i].lost, f"frame {i} is empty but not lost"
+        assert conf[i] < lost_below
+        assert exit_take.results[i].warnings  # the loss is reported
+    assert conf[:2].min() > 0.9
+
+
+def test_params_are_held_while_lost(exit_take):
+    held = None
+    for r in exit_take.results:
+        if r.lost:
+            assert held is not None
+            np.testing.assert_array_equal(r.params, held)
+        else:
+            held = r.params
+
+
+def test_recovered_after_coming_back(exit_take):
+    res = exit_take.results
+    lost = np.array([r.lost for r in res])
+    last_lost = int(np.nonzero(lost)[0].max())
+    assert last_lost < len(res) - 5
+    reacquired = [i for i, r in enumerate(res) if r.reacquired]
+    assert reacquired == [last_lost + 1]
+    err = exit_take.errors()
+    assert not lost[-5:].any()
+    assert err[-5:].max() < MAX_MEAN_ERROR
+    assert min(r.confidence for r in res[-5:]) > 0.9
+
+
+@pytest.mark.parametrize(
+    "bad",
+    [
+        np.zeros((240, 320, 3), np.float32),
+        np.full((240, 320, 3), np.nan, np.float32),
+        np.full((240, 320, 3), np.inf, np.float32),
+        np.random.default_rng(0).uniform(0, 1, (240, 320, 3)).astype(np.float32),
+    ],
+    ids=["black", "nan", "inf", "noise"],
+)
+def test_garbage_frame_is_lost_without_nan_then_recovered(bad):
+    take = scenario("translate")
+    tracker = Tracker(take.blob)
+    tracker.track(take.frames[0])
+    try:
+        res = tracker.track(bad)
+    except VoodooError:
+        pass  # refusing the frame is fine too
+    else:
+        assert_sane(res, tracker.layout.size, take.blob.n_nodes)
+        assert res.lost
+        assert res.confidence < tracker.options.lost_below
+    res = tracker.track(take.frames[0])
+    assert not res.lost
+    np.testing.assert_allclose(res.nodes, take.blob.vertices, atol=0.1)
+
+
+# ------------------------------------------------------------------------- frozen parameters
+
+
+def test_frozen_rotation_is_held_at_its_start_value():
+    take = scenario("bend")
+    tracker = Tracker(take.blob, frozen={"rotate"})
+    start = tracker.layout.identity()
+    start[2] = 0.05
+    tracker.reset(start)
+    params = np.array([tracker.track(f).params for f in take.frames])
+    assert (params[:, 2] == 0.05).all()
+
+
+def test_frozen_rotation_is_held_through_a_rotating_take():
+    take = scenario("rotate")
+    tracker = Tracker(take.blob, frozen={"rotate"})
+    results = [tracker.track(f) for f in take.frames]
+    rot = np.array([r.params[2] for r in results])
+    assert (rot == 0.0).all(), f"rotate moved to {rot[rot != 0][:3]}"
+    for r in results:
+        assert_sane(r, tracker.layout.size, take.blob.n_nodes)
+
+
+def test_freezing_scale_on_a_take_without_zoom_keeps_accuracy():
+    take = scenario("bend")
+    tracker = Tracker(take.blob, frozen={"scale", "brightness-r"})
+    results = [tracker.track(f) for f in take.frames]
+    params = np.array([r.params for r in results])
+    assert (params[:, 3] == 0.0).all()
+    assert (params[:, tracker.layout.index("brightness-r")] == 0.0).all()
+    err = np.mean(
+        [
+            np.linalg.norm(r.nodes - take.truth(i, take.blob.vertices), axis=1).mean()
+            for i, r in enumerate(results)
+        ]
+    )
+    assert err < MAX_MEAN_ERROR
+
+
+def test_freezing_a_mode_by_its_label():
+    take = scenario("bend")
+    label = str(take.blob.labels[0])
+    tracker = Tracker(take.blob, frozen={label})
+    k = tracker.layout.index(label)
+    params = np.array([tracker.track(f).params for f in take.frames])
+    assert (params[:, k] == 0.0).all()
+    # The other modes still move.
+    assert np.abs(params[:, tracker.layout.modes]).max() > 0.1
+
+
+@pytest.mark.parametrize("names", [{"rotation"}, {"rotate", "nope"}, {""}])
+def test_unknown_frozen_names_raise(names):
+    take = scenario("translate")
+    with pytest.raises(VoodooError):
+        Tracker(take.blob, frozen=names)
+    tracker = Tracker(take.blob)
+    with pytest.raises(VoodooError):
+        tracker.set_frozen(names)
+
+
+# ------------------------------------------------------------------------- bad input
+
+
+@pytest.mark.parametrize(
+    "frame",
+    [
+        np.zeros((240, 321, 3), np.float32),
+        np.zeros((120, 160, 3), np.float32),
+        np.zeros((320, 240, 3), np.float32),
+        np.zeros((240, 320, 3), np.uint8),
+        np.zeros((240, 320), np.float32),
+        np.zeros((240, 320, 4), np.float32),
+    ],
+    ids=["one-wider", "half-size", "transposed", "uint8", "gray", "rgba"],
+)
+def test_wrong_frames_raise(frame):
+    tracker = Tracker(scenario("translate").blob)
+    with pytest.raises(VoodooError):
+        tracker.track(frame)
+
+
+@pytest.mark.parametrize("kind", ["short", "nan"])
+def test_bad_reset_raises(kind):
+    tracker = Tracker(scenario("translate").blob)
+    a = tracker.layout.identity()
+    a = a[:-1] if kind == "short" else np.where(np.arange(len(a)) == 2, np.nan, a)
+    with pytest.raises(VoodooError):
+        tracker.reset(a)
+
+
+def test_options_and_parameter_names():
+    blob = scenario("translate").blob
+    tracker = Tracker(blob, options=TrackerOptions(photometric="global"))
+    names = tracker.parameter_names
+    assert names[:4] == ("translate-x", "translate-y", "rotate", "scale")
+    assert names[4 : 4 + blob.n_modes] == tuple(blob.labels)
+    assert names[-2:] == ("brightness", "contrast")
+    res = tracker.track(scenario("translate").frames[1])
+    assert res.params.shape == (len(names),)
