@@ -25,11 +25,29 @@ import triangle
 # Right half of the bunny outline (x, z), counterclockwise from the notch between the feet to
 # the top of the head; mirrored for the left half, then corner-cut smooth.
 BUNNY_HALF = [
-    (0.00, 0.06), (0.10, 0.00), (0.40, 0.00), (0.55, 0.07), (0.57, 0.17),  # foot
-    (0.63, 0.35), (0.63, 0.58), (0.55, 0.78), (0.40, 0.92), (0.24, 0.98),  # body to neck
-    (0.33, 1.06), (0.38, 1.20), (0.34, 1.36), (0.24, 1.46),  # cheek and head
-    (0.30, 1.62), (0.36, 1.82), (0.36, 1.97), (0.29, 2.06),  # ear, outer side to tip
-    (0.21, 2.01), (0.17, 1.84), (0.13, 1.62), (0.10, 1.50), (0.00, 1.47),  # ear, inner side
+    (0.00, 0.06),
+    (0.10, 0.00),
+    (0.40, 0.00),
+    (0.55, 0.07),
+    (0.57, 0.17),  # foot
+    (0.63, 0.35),
+    (0.63, 0.58),
+    (0.55, 0.78),
+    (0.40, 0.92),
+    (0.24, 0.98),  # body to neck
+    (0.33, 1.06),
+    (0.38, 1.20),
+    (0.34, 1.36),
+    (0.24, 1.46),  # cheek and head
+    (0.30, 1.62),
+    (0.36, 1.82),
+    (0.36, 1.97),
+    (0.29, 2.06),  # ear, outer side to tip
+    (0.21, 2.01),
+    (0.17, 1.84),
+    (0.13, 1.62),
+    (0.10, 1.50),
+    (0.00, 1.47),  # ear, inner side
 ]
 BUNNY_SPACING = 0.09  # target edge length of the cut-out's mesh: about 400 vertices
 BUNNY_COLOUR = (0.85, 0.72, 0.55, 1.0)
@@ -51,8 +69,9 @@ def chaikin(points, passes):
     """
     for _ in range(passes):
         following = np.roll(points, -1, axis=0)
-        points = np.stack([0.75 * points + 0.25 * following,
-                           0.25 * points + 0.75 * following], axis=1).reshape(-1, 2)
+        points = np.stack(
+            [0.75 * points + 0.25 * following, 0.25 * points + 0.75 * following], axis=1
+        ).reshape(-1, 2)
     return points
 
 
@@ -90,8 +109,9 @@ def fill_outline(outline, spacing):
     n = len(outline)
     segments = np.column_stack([np.arange(n), (np.arange(n) + 1) % n])
     max_area = np.sqrt(3) / 4 * spacing**2  # an equilateral triangle with sides ``spacing``
-    mesh = triangle.triangulate({"vertices": outline, "segments": segments},
-                                f"pq{MIN_ANGLE}Ya{max_area:.6f}")
+    mesh = triangle.triangulate(
+        {"vertices": outline, "segments": segments}, f"pq{MIN_ANGLE}Ya{max_area:.6f}"
+    )
     return mesh["vertices"], mesh["triangles"]
 
 
@@ -195,8 +215,10 @@ def main():
     bpy.ops.wm.read_factory_settings(use_empty=True)
     for obj in (make_cutout(), make_extruded()):
         corners = np.array(obj.bound_box)
-        print(f"{obj.name}: {len(obj.data.vertices)} vertices, {len(obj.data.polygons)} faces,"
-              f" bounds {corners.min(axis=0).round(3)} .. {corners.max(axis=0).round(3)}")
+        print(
+            f"{obj.name}: {len(obj.data.vertices)} vertices, {len(obj.data.polygons)} faces,"
+            f" bounds {corners.min(axis=0).round(3)} .. {corners.max(axis=0).round(3)}"
+        )
     bpy.ops.wm.save_as_mainfile(filepath="/tmp/characters_check.blend")
 
 

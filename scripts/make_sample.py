@@ -54,17 +54,19 @@ LINE_WIDTH = 7.0  # texels
 WOBBLE = 5.0  # texels: hand-painted lines are not straight
 N_BLOBS = 14
 N_DOTS = 60
-PAINT_COLOURS = np.array([
-    (0.86, 0.20, 0.16),  # red
-    (0.95, 0.55, 0.12),  # orange
-    (0.96, 0.84, 0.25),  # yellow
-    (0.35, 0.70, 0.28),  # green
-    (0.16, 0.62, 0.66),  # teal
-    (0.22, 0.38, 0.80),  # blue
-    (0.56, 0.32, 0.70),  # purple
-    (0.93, 0.56, 0.68),  # pink
-    (0.93, 0.89, 0.78),  # cream
-])
+PAINT_COLOURS = np.array(
+    [
+        (0.86, 0.20, 0.16),  # red
+        (0.95, 0.55, 0.12),  # orange
+        (0.96, 0.84, 0.25),  # yellow
+        (0.35, 0.70, 0.28),  # green
+        (0.16, 0.62, 0.66),  # teal
+        (0.22, 0.38, 0.80),  # blue
+        (0.56, 0.32, 0.70),  # purple
+        (0.93, 0.56, 0.68),  # pink
+        (0.93, 0.89, 0.78),  # cream
+    ]
+)
 LINE_COLOUR = (0.07, 0.06, 0.08)
 
 # The backdrop: a darker, faintly mottled plane behind the slab.
@@ -81,14 +83,42 @@ BACKDROP_GRAIN = 0.012
 MOTION = {
     "x": [(0.0, 0.0), (0.3, 0.0), (1.3, 0.6), (2.5, -0.5), (3.7, 0.3), (4.7, -0.1)],
     "y": [(0.0, 0.0), (0.3, 0.0), (1.1, 0.3), (2.2, -0.3), (3.4, 0.2), (4.6, 0.0)],
-    "turn": [(0.0, 0.0), (0.5, 0.0), (1.5, 25.0), (2.2, 25.0), (3.6, -30.0), (4.2, -15.0),
-             (5.0, 15.0)],
-    "scale_x": [(0.0, 1.0), (1.0, 1.0), (1.8, 1.2), (2.6, 1.0), (3.4, 0.82), (4.2, 0.9),
-                (5.0, 1.0)],
-    "scale_y": [(0.0, 1.0), (1.0, 1.0), (1.8, 1.2), (2.6, 1.0), (3.4, 1.12), (4.2, 0.9),
-                (5.0, 1.0)],
-    "bend": [(0.0, 0.0), (0.6, 0.0), (1.5, 55.0), (2.9, -55.0), (3.6, 0.0), (4.3, 40.0),
-             (5.0, 0.0)],
+    "turn": [
+        (0.0, 0.0),
+        (0.5, 0.0),
+        (1.5, 25.0),
+        (2.2, 25.0),
+        (3.6, -30.0),
+        (4.2, -15.0),
+        (5.0, 15.0),
+    ],
+    "scale_x": [
+        (0.0, 1.0),
+        (1.0, 1.0),
+        (1.8, 1.2),
+        (2.6, 1.0),
+        (3.4, 0.82),
+        (4.2, 0.9),
+        (5.0, 1.0),
+    ],
+    "scale_y": [
+        (0.0, 1.0),
+        (1.0, 1.0),
+        (1.8, 1.2),
+        (2.6, 1.0),
+        (3.4, 1.12),
+        (4.2, 0.9),
+        (5.0, 1.0),
+    ],
+    "bend": [
+        (0.0, 0.0),
+        (0.6, 0.0),
+        (1.5, 55.0),
+        (2.9, -55.0),
+        (3.6, 0.0),
+        (4.3, 40.0),
+        (5.0, 0.0),
+    ],
     "taper": [(0.0, 0.0), (2.5, 0.0), (3.2, 0.16), (3.9, -0.14), (4.6, 0.0)],
 }
 
@@ -188,8 +218,9 @@ def textured_grid(name, size, segments, material, depth=0.0):
     mesh = bpy.data.meshes.new(name)
     bm = bmesh.new()
     bm.loops.layers.uv.new("UVMap")  # create_grid fills the UV layer that exists
-    bmesh.ops.create_grid(bm, x_segments=segments[0], y_segments=segments[1], size=0.5,
-                          calc_uvs=True)
+    bmesh.ops.create_grid(
+        bm, x_segments=segments[0], y_segments=segments[1], size=0.5, calc_uvs=True
+    )
     for vert in bm.verts:
         vert.co = (vert.co.x * size[0], vert.co.y * size[1], depth)
     bm.to_mesh(mesh)
@@ -255,10 +286,16 @@ def build_scene(rng):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     foam = packed_image("PaintedFoam", painted_foam_texture(rng, *SLAB_TEXTURE_SIZE))
     backdrop = packed_image("Backdrop", backdrop_texture(rng, *BACKDROP_TEXTURE_SIZE))
-    textured_grid("Backdrop", BACKDROP_SIZE, (1, 1), textured_material("Backdrop", backdrop),
-                  depth=BACKDROP_DEPTH)
-    slab = textured_grid("FoamSlab", SLAB_SIZE, SLAB_SEGMENTS,
-                         textured_material("PaintedFoam", foam))
+    textured_grid(
+        "Backdrop",
+        BACKDROP_SIZE,
+        (1, 1),
+        textured_material("Backdrop", backdrop),
+        depth=BACKDROP_DEPTH,
+    )
+    slab = textured_grid(
+        "FoamSlab", SLAB_SIZE, SLAB_SEGMENTS, textured_material("PaintedFoam", foam)
+    )
     add_deformers(slab)
     animate(slab)
     add_camera()
@@ -375,8 +412,10 @@ def main(argv=None):
     print(f"max slab speed {max_speed(scene, slab):.1f} px/frame")
 
     bpy.ops.render.render(animation=True)
-    print(f"wrote {video_path} ({video_path.stat().st_size / 1e6:.2f} MB, {args.frames} frames)"
-          f" and {contour_path} ({len(points)} points) in {time.perf_counter() - started:.1f} s")
+    print(
+        f"wrote {video_path} ({video_path.stat().st_size / 1e6:.2f} MB, {args.frames} frames)"
+        f" and {contour_path} ({len(points)} points) in {time.perf_counter() - started:.1f} s"
+    )
 
 
 if __name__ == "__main__":
