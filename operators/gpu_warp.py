@@ -98,10 +98,10 @@ class _Target:
         hi = np.ceil(geometry.coords.max(axis=0)).astype(int)
         self.width, self.height = int(hi[0] - lo[0] + 1), int(hi[1] - lo[1] + 1)
         self.offscreen = gpu.types.GPUOffScreen(self.width, self.height, format="RGBA32F")
-        self.pos = (geometry.vertices - lo).astype(np.float32)
+        self.pos = np.ascontiguousarray(geometry.vertices - lo, dtype=np.float32)
         local = (geometry.coords - lo).astype(np.int64)
         self.flat = local[:, 1] * self.width + local[:, 0]
-        self.indices = geometry.triangles.astype(np.int32)
+        self.indices = np.ascontiguousarray(geometry.triangles, dtype=np.int32)
 
 
 class GpuWarp(WarpBackend):

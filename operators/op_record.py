@@ -103,10 +103,17 @@ class VOODOO_OT_track_clip(bpy.types.Operator):
     bl_options = {"REGISTER", "UNDO"}
 
     max_frames: bpy.props.IntProperty(name="Frames", description="0: to the end", min=0)
+    resume: bpy.props.BoolProperty(
+        name="Resume", description="Continue the last take from the frame after it ended"
+    )
 
     def execute(self, context):
+        resume = context.scene.voodoo.last_take if self.resume else None
+        if self.resume and not resume:
+            self.report({"ERROR"}, "There is no take to resume yet.")
+            return {"CANCELLED"}
         try:
-            rec = Recorder(context, max_frames=self.max_frames or None, live=False)
+            rec = Recorder(context, max_frames=self.max_frames or None, live=False, resume=resume)
         except VoodooError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}

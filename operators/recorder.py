@@ -18,7 +18,7 @@ from . import overlay
 from .apply import apply_take, check_target, layout_for, rest_vertices, shape_for_mode
 from .frames import active_clip, open_clip, scene_frame
 from .gpu_warp import make_backend
-from .store import load_blob, store_take, unique_take_name
+from .store import load_blob, load_take, store_take, unique_take_name
 
 FOOTAGE_DIR = "voodoo_footage"
 
@@ -33,6 +33,9 @@ class Recorder:
         Stop after this many frames (a live camera stops after ``camera_seconds``).
     live : bool
         Move the scene to each tracked frame and pose the target there (off for batch).
+    resume : str, optional
+        Name of a stored take of a clip to continue: tracking starts on the frame after its
+        last one, from its last pose (e.g. after reopening the file).
 
     Raises
     ------
@@ -41,7 +44,9 @@ class Recorder:
         blob, or a target that is not a mesh.
     """
 
-    def __init__(self, context, max_frames: int | None = None, live: bool = True):
+    def __init__(
+        self, context, max_frames: int | None = None, live: bool = True, resume: str | None = None
+    ):
         scene = context.scene
         s = scene.voodoo
         self.scene = scene
@@ -53,6 +58,7 @@ class Recorder:
             check_target(self.target)
             fit_mapping(self.blob, rest_vertices(self.target), s.axes)  # fail before tracking
         self.clip = None
+        resume_from = None
         self.writer = None
         self.footage = None
         if s.source == "CAMERA":
@@ -65,6 +71,13 @@ class Recorder:
             self.clip = active_clip(context)
             self.source = open_clip(self.clip)
             start = max(0, min(s.capture_index, (self.source.count or 1) - 1))
+            if resume:
+                previous = load_take(self.blob_mesh, resume)
+                start = int(previous.frame_indices[-1]) + 1
+                resume_from = previous.params[-1]
+                if self.source.count is not None and start >= self.source.count:
+                    self.source.close()
+                    raise VoodooError(f"Take {resume!r} already reaches the end of the clip.")
             self.source.seek(start)
             self.max_frames = max_frames
             self._frame_of = lambda fr: scene_frame(self.clip, fr.index)
@@ -87,6 +100,8 @@ class Recorder:
             if on
         ]
         self.tracker = Tracker(self.blob, backend=self.backend, frozen=frozen)
+        if resume_from is not None:
+            self.tracker.reset(resume_from)
         self.take_name = unique_take_name(self.blob_mesh, s.take_name or "Take")
         self.rows = []  # (source index, time, scene frame, TrackResult)
         self._preview = None

@@ -147,18 +147,18 @@ def validate_contour(
                 f"Contour point ({x:.1f}, {y:.1f}) lies outside the {w}x{h} frame; keep the "
                 "outline inside the picture."
             )
-    area = signed_area(pts)
-    if abs(area) < min_area:
-        raise VoodooError(
-            f"The contour encloses only {abs(area):.1f} square pixels (at least {min_area:g} "
-            "are needed); outline a larger region of the object."
-        )
     hit = _segments_intersect(pts)
     if hit is not None:
         i, j = hit
         raise VoodooError(
             f"The contour crosses itself (edge {i} meets edge {j}); redraw it as a simple "
             "loop that does not cross over."
+        )
+    area = signed_area(pts)
+    if abs(area) < min_area:
+        raise VoodooError(
+            f"The contour encloses only {abs(area):.1f} square pixels (at least {min_area:g} "
+            "are needed); outline a larger region of the object."
         )
     # y points down on screen, so a positive shoelace area is clockwise on screen.
     if area > 0:

@@ -1,0 +1,185 @@
+"""Bad input gets a clear report and leaves the scene as it was."""
+
+import shutil
+
+import bpy
+import numpy as np
+import pytest
+
+
+def _snapshot():
+    """What must not change: datablocks, actions, shape keys, animation assignments."""
+    objects = {}
+    for o in bpy.data.objects:
+        ad = o.animation_data
+        keys = o.data.shape_keys if o.type == "MESH" else None
+        objects[o.name] = (
+            ad.action.name if ad and ad.action else None,
+            len(ad.nla_tracks) if ad else 0,
+            [kb.name for kb in keys.key_blocks] if keys else [],
+            tuple(o.location),
+        )
+    return {
+        "objects": objects,
+        "actions": sorted(a.name for a in bpy.data.actions),
+        "images": sorted(i.name for i in bpy.data.images),
+        "meshes": sorted(m.name for m in bpy.data.meshes),
+        "contour": [tuple(p.co) for p in bpy.context.scene.voodoo.contour],
+        "takes": bpy.context.scene.voodoo.last_take,
+    }
+
+
+def test_capture_without_clip(ctx):
+    before = _snapshot()
+    with pytest.raises(RuntimeError, match="No movie clip"):
+        bpy.ops.voodoo.capture_frame()
+    assert _snapshot() == before
+
+
+def test_camera_that_is_not_there(ctx):
+    ctx.scene.voodoo.source = "CAMERA"
+    ctx.scene.voodoo.camera_index = 63
+    before = _snapshot()
+    with pytest.raises(RuntimeError, match="No camera at index 63"):
+        bpy.ops.voodoo.capture_frame()
+    assert _snapshot() == before
+
+
+def test_unreadable_clip(ctx, clip_file, tmp_path):
+    path = tmp_path / "broken.avi"
+    shutil.copy(clip_file["path"], path)
+    clip = bpy.data.movieclips.load(str(path))
+    ctx.scene.active_clip = clip
+    path.write_bytes(b"this is not a video" * 100)
+    before = _snapshot()
+    with pytest.raises(RuntimeError, match="Cannot open .* as a video"):
+        bpy.ops.voodoo.capture_frame()
+    path.unlink()
+    with pytest.raises(RuntimeError, match="missing"):
+        bpy.ops.voodoo.capture_frame()
+    assert _snapshot() == before
+
+
+def test_no_mask(prepared):
+    before = _snapshot()
+    bpy.data.masks.remove(bpy.data.masks[0])
+    with pytest.raises(RuntimeError, match="No mask"):
+        bpy.ops.voodoo.contour_from_mask()
+    assert _snapshot() == before
+
+
+def test_self_intersecting_mask(prepared, make):
+    before = _snapshot()
+    bowtie = [(100, 80), (200, 160), (200, 80), (100, 160)]
+    make.add_mask(bowtie, (320, 240), name="Bowtie")
+    with pytest.raises(RuntimeError, match="crosses itself"):
+        bpy.ops.voodoo.contour_from_mask(mask="Bowtie")
+    assert _snapshot()["contour"] == before["contour"]
+
+
+def test_build_without_outline(ctx, clip_file):
+    clip = bpy.data.movieclips.load(str(clip_file["path"]))
+    ctx.scene.active_clip = clip
+    bpy.ops.voodoo.capture_frame()
+    before = _snapshot()
+    with pytest.raises(RuntimeError, match="Outline the object first"):
+        bpy.ops.voodoo.build_blob()
+    assert _snapshot() == before
+
+
+@pytest.mark.parametrize("kind", ["camera", "empty", "no-vertices"])
+def test_target_that_is_not_a_usable_mesh(prepared, kind):
+    ctx = prepared
+    if kind == "camera":
+        obj = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
+    elif kind == "empty":
+        obj = bpy.data.objects.new("Empty", None)
+    else:
+        obj = bpy.data.objects.new("Hollow", bpy.data.meshes.new("Hollow"))
+    ctx.scene.collection.objects.link(obj)
+    ctx.scene.voodoo["target"] = obj  # scripts can bypass the panel's mesh filter
+    before = _snapshot()
+    with pytest.raises(RuntimeError, match="not a mesh|no vertices"):
+        bpy.ops.voodoo.track_clip()
+    assert _snapshot() == before
+
+
+def test_target_flat_in_the_chosen_plane(prepared, make):
+    ctx = prepared
+    obj = make.flat_target(keyed=False)  # lies in XZ
+    ctx.scene.voodoo.target = obj
+    ctx.scene.voodoo.axes = "XY"
+    before = _snapshot()
+    with pytest.raises(RuntimeError, match="flat in the XY plane"):
+        bpy.ops.voodoo.track_clip()
+    assert _snapshot() == before
+
+
+def test_target_deleted_during_a_take(prepared, sub, make):
+    ctx = prepared
+    obj = make.flat_target()
+    ctx.scene.voodoo.target = obj
+    before = _snapshot()
+    rec = sub("operators.recorder").Recorder(ctx, live=True)
+    assert rec.step() and rec.step()
+    bpy.data.objects.remove(bpy.data.objects["Flat"])
+    with pytest.raises(sub("voodoo_addon.errors").VoodooError, match="deleted during the take"):
+        rec.step()
+    rec.close()
+    after = _snapshot()
+    del before["objects"]["Flat"]
+    assert after["objects"] == before["objects"]  # the stand-in is gone too
+    assert after["actions"] == before["actions"]
+
+
+def test_clip_that_does_not_match_the_blob(prepared, tmp_path):
+    """A clip of another size than the blob's capture frame is refused before tracking."""
+    from voodoo_addon.synthetic import scenario_take, write_frames
+
+    frames, _, _ = scenario_take("bend", frames=4, size=(256, 192))
+    path = tmp_path / "other.avi"
+    write_frames(path, frames)
+    ctx = prepared
+    ctx.scene.active_clip = bpy.data.movieclips.load(str(path))
+    before = _snapshot()
+    with pytest.raises(RuntimeError, match="256x192 but the blob was built on a 320x240"):
+        bpy.ops.voodoo.track_clip()
+    assert _snapshot() == before
+
+
+def test_apply_without_take(prepared, make):
+    ctx = prepared
+    ctx.scene.voodoo.target = make.flat_target()
+    before = _snapshot()
+    with pytest.raises(RuntimeError, match="No take yet"):
+        bpy.ops.voodoo.apply_take()
+    assert _snapshot() == before
+
+
+def test_lost_frames_are_not_keyed(ctx, make, tmp_path):
+    """A take where the doll leaves the picture: those frames get no keys and are reported."""
+    from voodoo_addon.synthetic import scenario_take, write_frames
+
+    frames, contour, _ = scenario_take("exit", frames=24, size=(320, 240))
+    path = tmp_path / "exit.avi"
+    write_frames(path, frames)
+    clip = bpy.data.movieclips.load(str(path))
+    ctx.scene.active_clip = clip
+    bpy.ops.voodoo.capture_frame()
+    make.add_mask(contour, (320, 240))
+    bpy.ops.voodoo.contour_from_mask()
+    bpy.ops.voodoo.build_blob(name="Doll")
+    obj = make.flat_target(keyed=False)
+    ctx.scene.voodoo.target = obj
+    assert bpy.ops.voodoo.track_clip() == {"FINISHED"}
+    from bpy_extras import anim_utils
+
+    key = obj.data.shape_keys
+    bag = anim_utils.action_get_channelbag_for_slot(
+        key.animation_data.action, key.animation_data.action_slot
+    )
+    keyed = {int(round(k.co[0])) for k in bag.fcurves[0].keyframe_points}
+    assert 0 < len(keyed) < 24
+    for f in keyed:
+        vals = [fc.evaluate(f) for fc in bag.fcurves]
+        assert np.isfinite(vals).all()
