@@ -228,3 +228,30 @@ def test_live_recorder_poses_a_stand_in(prepared, sub, make):
     assert info["frames"] == 6 and info["applied"]
     assert {o.name for o in ctx.scene.objects} == {obj.name}
     assert obj.visible_get()
+
+
+def test_automatic_and_sketched_outlines(ctx, clip_file):
+    clip = bpy.data.movieclips.load(str(clip_file["path"]))
+    ctx.scene.active_clip = clip
+    bpy.ops.voodoo.capture_frame()
+    s = ctx.scene.voodoo
+    # a click in the middle of the foam finds the whole foam block
+    assert bpy.ops.voodoo.contour_auto(point=(160.0, 120.0)) == {"FINISHED"}
+    pts = np.array([p.co for p in s.contour])
+    x, y = pts[:, 0], pts[:, 1]
+    area = 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+    assert 8000 < area < 16000  # the foam ellipse (about 11.4k px), not the blob region
+    # a scripted sketch replaces it, validated against the frame
+    assert bpy.ops.voodoo.sketch_contour(coords="120 90, 200 90, 200 150, 120 150") == {"FINISHED"}
+    assert {tuple(p.co) for p in s.contour} == {(120, 90), (120, 150), (200, 150), (200, 90)}
+    with pytest.raises(RuntimeError, match="outside the 320x240 frame"):
+        bpy.ops.voodoo.sketch_contour(coords="120 90, 400 90, 200 150")
+    assert len(s.contour) == 4  # unchanged
+
+
+def test_record_take_from_a_script_tracks_the_clip(prepared, make):
+    ctx = prepared
+    ctx.scene.voodoo.target = make.flat_target(keyed=False)
+    # without an event loop the modal operator runs as the batch operator
+    assert bpy.ops.voodoo.record_take() == {"FINISHED"}
+    assert ctx.scene.voodoo.last_take == "Take"
