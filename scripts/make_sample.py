@@ -32,6 +32,7 @@ import bmesh
 import numpy as np
 from bpy_extras import anim_utils
 from bpy_extras.object_utils import world_to_camera_view
+from characters import resample_closed  # scripts/ is on sys.path when run as a script
 from scipy.ndimage import zoom
 
 WIDTH, HEIGHT = 640, 480
@@ -343,20 +344,6 @@ def projected_vertices(scene, obj):
         ndc = world_to_camera_view(scene, camera, world @ vert.co)  # x right, y up, in [0, 1]
         points.append((ndc.x * WIDTH - 0.5, (1.0 - ndc.y) * HEIGHT - 0.5))
     return np.array(points)
-
-
-def resample_closed(points, spacing):
-    """Points evenly about ``spacing`` apart along the closed polyline through ``points``.
-
-    Returns
-    -------
-    (n_points, 2) float64
-    """
-    closed = np.vstack([points, points[:1]])
-    steps = np.linalg.norm(np.diff(closed, axis=0), axis=1)
-    arc_length = np.concatenate([[0.0], np.cumsum(steps)])
-    at = np.linspace(0.0, arc_length[-1], round(arc_length[-1] / spacing), endpoint=False)
-    return np.column_stack([np.interp(at, arc_length, closed[:, i]) for i in (0, 1)])
 
 
 def rounded_rectangle(centre, half_size, radius, spacing):

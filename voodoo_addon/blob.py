@@ -11,12 +11,11 @@ import io
 import zipfile
 from dataclasses import dataclass, field, fields
 from functools import cached_property
-from pathlib import Path
 
 import numpy as np
 
 from .contour import simplify_contour, validate_contour
-from .errors import VoodooError
+from .errors import VoodooError, read_file, write_file
 from .fem import assemble, quadrature_points, rms_radius, select_modes, similarity_fields
 from .images import blur
 from .interpolants import GaussianInterpolant
@@ -364,17 +363,9 @@ def _check_consistent(blob: ActiveBlob, source: str) -> None:
 
 def save_blob(path, blob: ActiveBlob) -> None:
     """Write a blob to an ``.npz`` file."""
-    try:
-        Path(path).write_bytes(blob_to_bytes(blob))
-    except OSError as exc:
-        raise VoodooError(f"Could not write the blob to {path} ({exc.strerror}).") from None
+    write_file(path, blob_to_bytes(blob), "blob")
 
 
 def load_blob(path) -> ActiveBlob:
     """Read a blob written by :func:`save_blob`."""
-    path = Path(path)
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise VoodooError(f"Could not read the blob file {path} ({exc.strerror}).") from None
-    return blob_from_bytes(data, source=str(path))
+    return blob_from_bytes(read_file(path, "blob"), source=str(path))

@@ -8,12 +8,11 @@ import time
 import zipfile
 from collections.abc import Callable
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from .blob import ActiveBlob
-from .errors import VoodooError
+from .errors import VoodooError, read_file, write_file
 from .sources import FrameSource
 from .tracker import Tracker
 
@@ -117,20 +116,12 @@ def take_from_bytes(data: bytes, source: str = "the take data") -> Take:
 
 def save_take(path, take: Take) -> None:
     """Write a take to an ``.npz`` file (see :func:`take_to_bytes`)."""
-    try:
-        Path(path).write_bytes(take_to_bytes(take))
-    except OSError as exc:
-        raise VoodooError(f"Could not write the take to {path} ({exc.strerror}).") from None
+    write_file(path, take_to_bytes(take), "take")
 
 
 def load_take(path) -> Take:
     """Read a take written by :func:`save_take`."""
-    path = Path(path)
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise VoodooError(f"Could not read the take file {path} ({exc.strerror}).") from None
-    return take_from_bytes(data, source=str(path))
+    return take_from_bytes(read_file(path, "take"), source=str(path))
 
 
 class ProgressBar:
