@@ -30,6 +30,10 @@ demo: setup mesa
 bench: setup
 	$(BIN)/python -m voodoo_addon bench
 
+## Download the manifest's wheels and build one validated extension zip per platform into dist/.
+extension: setup
+	$(BIN)/python scripts/build_extension.py
+
 lint: setup
 	$(BIN)/ruff check .
 

@@ -1,0 +1,76 @@
+"""The built Linux zip installs into Blender and runs on its bundled wheels alone.
+
+The zip is (re)built with scripts/build_extension.py (``make extension``; wheels are downloaded
+once). A child Python then gets a path holding only bpy and numpy -- no scipy, OpenCV or
+triangle -- and a scratch BLENDER_USER_RESOURCES; it installs the zip, records a take of the
+sample clip with the installed add-on and uninstalls it (tests/blender/installed_extension.py).
+Everything Blender-side happens in that child: this process never touches its own bpy here.
+"""
+
+import importlib.util
+import json
+import os
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+DRIVER = Path(__file__).with_name("installed_extension.py")
+BUNDLED = ("scipy", "cv2", "triangle")
+
+pytestmark = pytest.mark.slow
+
+
+def linux_zip() -> Path:
+    """Build the extension zips from this checkout; the linux-x64 one."""
+    script = ROOT / "scripts" / "build_extension.py"
+    done = subprocess.run([sys.executable, script], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stdout + done.stderr
+    manifest = tomllib.loads((ROOT / "blender_manifest.toml").read_text())
+    return ROOT / "dist" / f"{manifest['id']}-{manifest['version']}-linux_x64.zip"
+
+
+def bpy_only_path(folder: Path) -> Path:
+    """A folder of links to bpy and numpy (all bpy needs to import), and nothing else."""
+    site = Path(importlib.util.find_spec("bpy").submodule_search_locations[0]).parent
+    folder.mkdir()
+    for name in ("bpy", "numpy", "numpy.libs"):  # numpy.libs: numpy's own OpenBLAS
+        if (site / name).exists():
+            (folder / name).symlink_to(site / name)
+    return folder
+
+
+def run_installed(zip_path: Path, scratch: Path) -> dict:
+    """Run the driver in a Python limited to bpy and numpy; what it saw."""
+    report = scratch / "seen.json"
+    env = {k: v for k, v in os.environ.items() if not k.startswith("PYTHON")}
+    env["PYTHONPATH"] = str(bpy_only_path(scratch / "path"))
+    env["BLENDER_USER_RESOURCES"] = str(scratch / "user")
+    samples = ROOT / "samples"
+    cmd = [sys.executable, "-S", DRIVER, zip_path, samples / "sample_take.mp4"]
+    cmd += [samples / "sample_take.json", report]
+    done = subprocess.run(cmd, env=env, cwd=scratch, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stdout + done.stderr
+    return json.loads(report.read_text())
+
+
+def test_zip_installs_runs_on_bundled_wheels_and_uninstalls(tmp_path):
+    seen = run_installed(linux_zip(), tmp_path)
+    extensions = tmp_path / "user" / "extensions"
+    site_packages = extensions / ".local" / "lib" / "python3.11" / "site-packages"
+    # the child could not import the dependencies until the extension brought them
+    assert seen["importable_before"] == dict.fromkeys(BUNDLED, False)
+    assert seen["enabled"]
+    for name in BUNDLED:
+        assert Path(seen["files"][name]).resolve().is_relative_to(site_packages.resolve()), name
+    # the add-on did the whole job: one shape key per mode, keyed on every tracked frame
+    assert seen["take"]["shape_keys"] > 0
+    assert seen["take"]["keyed_frames"] == [20]
+    # disabled, then uninstalled: its files and its wheels' packages are gone
+    assert not seen["enabled_after_disable"]
+    assert Path(seen["repo_directory"]) == extensions / "user_default"
+    assert not (extensions / "user_default" / "voodoo_dolls").exists()
+    assert not site_packages.exists() or not any(site_packages.iterdir())
