@@ -11,11 +11,12 @@ from dataclasses import dataclass
 
 import cv2
 import numpy as np
+import scipy.sparse
 
 from .blob import ActiveBlob
 from .mesh import TriMesh, rasterize
 from .norms import RobustNorm
-from .params import ParamLayout, node_positions, rotation
+from .params import ParamLayout, node_positions
 from .warp import REMAP_ROW, WarpBackend, WarpGeometry
 
 #: Parameter steps at every level: translations and modes move the blob by one level pixel
@@ -125,20 +126,19 @@ class Level:
         local = (coords - self.texture_origin).round().astype(np.int64)
         local = np.clip(local, 0, np.array(tex.shape[1::-1]) - 1)
         self.template = np.ascontiguousarray(tex[local[:, 1], local[:, 0]])  # (n, 3) float32
-        # Mode displacement of every template pixel: (2n, k), interleaved like positions.
-        corner = self.modes.reshape(-1, 2, layout.n_modes)[blob.triangles[tri]]  # (n,3,2,k)
-        pix_modes = np.einsum("pj,pjdk->pdk", weights, corner)  # (n, 2, k)
-        # Positions are one small product: lift^T (2(k+1), n) gives, for each axis, the pixel's
-        # offset from the centre and its mode displacements. Padded to whole remap rows.
+        # Pixel positions follow the warped nodes barycentrically (the warp is piecewise
+        # affine), so they are one sparse product S @ nodes, S (n_pad, m) holding each pixel's
+        # three weights. Padded to whole remap rows.
         n = len(coords)
         self.n_pad = n if n <= REMAP_ROW else -(-n // REMAP_ROW) * REMAP_ROW
-        lift = np.zeros((2 * (layout.n_modes + 1), self.n_pad), dtype=np.float32)
-        k1 = layout.n_modes + 1
-        lift[0, :n] = coords[:, 0] - self.centre[0]
-        lift[1:k1, :n] = pix_modes[:, 0, :].T
-        lift[k1, :n] = coords[:, 1] - self.centre[1]
-        lift[k1 + 1 :, :n] = pix_modes[:, 1, :].T
-        self.lift = lift
+        self.bary = scipy.sparse.csr_matrix(
+            (
+                weights.ravel().astype(np.float32),
+                blob.triangles[tri].ravel(),
+                np.r_[np.arange(0, 3 * n + 1, 3), np.full(self.n_pad - n, 3 * n)],
+            ),
+            shape=(self.n_pad, len(self.vertices)),
+        )
         self.all_valid = np.ones(n, dtype=bool)  # shared "every pixel is usable" mask
         # Pixel blocks for outlier rejection.
         lo, hi = coords.min(axis=0), coords.max(axis=0) + 1
@@ -154,8 +154,14 @@ class Level:
 
     # ------------------------------------------------------------------ warping
 
-    def positions(self, a: np.ndarray) -> np.ndarray:
+    def positions(self, a: np.ndarray, nodes: np.ndarray | None = None) -> np.ndarray:
         """Template pixels under the warp ``a``, level coordinates.
+
+        Parameters
+        ----------
+        a : (P,) float64
+        nodes : (m, 2) float64, optional
+            ``self.nodes(a)`` when the caller has it already.
 
         Returns
         -------
@@ -163,14 +169,9 @@ class Level:
             x in row 0, y in row 1 (the layout ``remap`` wants); columns past ``len(self)``
             are padding.
         """
-        v = np.empty(self.layout.n_modes + 1)
-        v[0] = 1.0
-        v[1:] = a[self.layout.modes]
-        r = np.exp(a[3]) * rotation(a[2])  # x' = r @ (offset + displacement)
-        w = np.concatenate([np.outer(r[:, 0], v), np.outer(r[:, 1], v)], axis=1)  # (2, 2(k+1))
-        pos = w.astype(np.float32) @ self.lift
-        pos += (self.centre + a[:2] * self.scale).astype(np.float32)[:, None]
-        return pos
+        if nodes is None:
+            nodes = self.nodes(a)
+        return np.ascontiguousarray((self.bary @ nodes.astype(np.float32)).T)
 
     def nodes(self, a: np.ndarray) -> np.ndarray:
         """Mesh nodes under the warp ``a``, level coordinates (m, 2)."""

@@ -49,7 +49,9 @@ class LorentzianNorm(RobustNorm):
         return ("lorentzian", self.sigma)
 
     def rho(self, e: np.ndarray) -> np.ndarray:
-        return np.log1p(e * e * e.dtype.type(self._k))
+        out = np.square(e)
+        out *= e.dtype.type(self._k)
+        return np.log1p(out, out=out)
 
 
 class QuadraticNorm(RobustNorm):

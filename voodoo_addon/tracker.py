@@ -26,6 +26,8 @@ _ONES3 = np.ones(3, dtype=np.float32)
 #: Coarse grid search around each seed pose, coarsest-level pixels.
 SEARCH_RADIUS = 6
 SEARCH_STEP = 3
+#: Pixels the confidence's correlation is computed on (an even subsample).
+CONFIDENCE_SAMPLES = 2000
 #: An update that changes a lighting term by more than this is not converged.
 PHOTOMETRIC_TOLERANCE = 2e-3
 
@@ -75,7 +77,7 @@ class TrackerOptions:
     """
 
     sigma: float = 0.15
-    gamma: float = 1e-4
+    gamma: float = 1e-5
     photometric: str = "channel"
     max_levels: int = 3
     min_level_pixels: int = 300
@@ -342,7 +344,7 @@ class Tracker:
         else:
             nodes = np.vstack([self.nodes(a) for a in poses])
             lo, hi = nodes.min(axis=0), nodes.max(axis=0)
-            margin = max(0.3 * float((hi - lo).max()), 12.0 * align)
+            margin = max(0.15 * float((hi - lo).max()), 8.0 * align)
             x0 = int(np.clip(np.floor((lo[0] - margin) / align) * align, 0, w))
             y0 = int(np.clip(np.floor((lo[1] - margin) / align) * align, 0, h))
             x1 = int(np.clip(np.ceil(hi[0] + margin) + 1, 0, w))
@@ -464,8 +466,9 @@ class Tracker:
         best_a, best = a, None
         nodes_a = self.nodes(a)
         its = 0
+        full = level.index == 0  # level nodes are frame nodes: reuse them
         for _ in range(cap or opt.max_iterations):
-            ev = self._evaluate(level, a, org, box)
+            ev = self._evaluate(level, a, org, box, nodes_a if full else None)
             its += 1
             if ev is None:
                 break
@@ -495,10 +498,15 @@ class Tracker:
                 break
         return best_a, best, its
 
-    def _evaluate(self, level: Level, a, origin, box) -> _Eval | None:
-        """Warp, sample and compare at ``a``: the robust difference image (Eq. 12, 16)."""
+    def _evaluate(self, level: Level, a, origin, box, nodes=None) -> _Eval | None:
+        """Warp, sample and compare at ``a``: the robust difference image (Eq. 12, 16).
+
+        ``nodes`` are ``level.nodes(a)`` when the caller has them.
+        """
         n = len(level)
-        pos = level.positions(a)
+        if nodes is None:
+            nodes = level.nodes(a)
+        pos = level.positions(a, nodes)
         pos -= origin[:, None]
         x, y = pos[0, :n], pos[1, :n]
         if x.min() >= 0 and y.min() >= 0 and x.max() <= box[0] and y.max() <= box[1]:
@@ -508,8 +516,7 @@ class Tracker:
             n_valid = int(np.count_nonzero(valid))
             if n_valid < 0.15 * n:
                 return None
-        nodes = level.nodes(a) - origin if self.backend.needs_nodes else None
-        samples = self.backend.sample(level.geometry, nodes, pos)
+        samples = self.backend.sample(level.geometry, nodes - origin, pos)
         c, b = self.layout.channel_gain_offset(a)
         inv_c = (1.0 / c).astype(np.float32)
         # d = I0 - (S - b) / c, then Eq. 16: dbar = sign(d) sqrt(rho(d)).
@@ -594,7 +601,7 @@ class Tracker:
         Per-channel normalised cross-correlation (so insensitive to the lighting model),
         averaged with the template's channel variances as weights, on an even subsample.
         """
-        step = max(1, len(ev.valid) // 3000)
+        step = max(1, len(ev.valid) // CONFIDENCE_SAMPLES)
         t = level.template[::step]
         s = ev.samples[::step]
         if ev.valid is level.all_valid:
@@ -605,13 +612,14 @@ class Tracker:
             if np.count_nonzero(v) < 10:
                 return 0.0
             t, s = t[v], s[v]
-        t = t - t.mean(axis=0)
-        s = s - s.mean(axis=0)
-        var_t = np.einsum("ij,ij->j", t, t)
-        num = np.einsum("ij,ij->j", t, s)
-        den = np.sqrt(var_t * np.einsum("ij,ij->j", s, s))
+        k = len(t)
+        st, ss = t.sum(axis=0), s.sum(axis=0)
+        var_t = np.einsum("ij,ij->j", t, t) - st * st / k
+        var_s = np.einsum("ij,ij->j", s, s) - ss * ss / k
+        cov = np.einsum("ij,ij->j", t, s) - st * ss / k
+        den = np.sqrt(np.maximum(var_t * var_s, 0.0))
         ok = den > 1e-9
         if not ok.any():
             return 0.0
-        ncc = float((num[ok] / den[ok] * var_t[ok]).sum() / var_t[ok].sum())
+        ncc = float((cov[ok] / den[ok] * var_t[ok]).sum() / var_t[ok].sum())
         return float(np.clip(ncc, 0.0, 1.0) * min(1.0, visible / 0.75))
