@@ -172,7 +172,10 @@ class Tracker:
         self.layout = ParamLayout(tuple(str(s) for s in blob.labels), opt.photometric)
         self.levels = [Level(blob, 0, self.layout, opt.pixel_budget, opt.block_grid)]
         while len(self.levels) < opt.max_levels:
-            nxt = Level(blob, len(self.levels), self.layout, opt.pixel_budget, opt.block_grid)
+            # Coarse levels only need to bring the fine level into range: a quarter of the
+            # budget per level down keeps them cheap on big blobs.
+            budget = opt.pixel_budget and opt.pixel_budget // 4 ** len(self.levels)
+            nxt = Level(blob, len(self.levels), self.layout, budget, opt.block_grid)
             if len(nxt) < opt.min_level_pixels:
                 break
             self.levels.append(nxt)
@@ -331,7 +334,7 @@ class Tracker:
             lay = self.layout
             vel = self.state - self._prev
             a[:4] += vel[:4]
-            a[lay.modes] += 0.5 * vel[lay.modes]
+            a[lay.modes] += vel[lay.modes]
         return a
 
     def _frame_pyramid(self, frame: np.ndarray, poses, wide: bool):
@@ -385,6 +388,8 @@ class Tracker:
         if best is None:
             for seed in seeds:
                 best = self._better(best, self._descend(images, origin, seed, wide, info))
+                if best is not None and best[1].residual <= limit:
+                    break
             if best is None or best[1].residual > limit:
                 top = self.levels[-1]
                 seed, its = self._coarse_search(top, images[top.index], origin, seeds)
