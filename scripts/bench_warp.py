@@ -22,7 +22,7 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, os.path.dirname(__file__))
 from blender_addon import enable_from_checkout  # noqa: E402
 
-FRAMES = 60
+FRAMES = 120
 REPEAT = 50
 
 
