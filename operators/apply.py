@@ -237,64 +237,64 @@ def refresh_modes(scene) -> None:
     stored take; switched off, its key and curve are muted; a gain rescales its shape.
     """
     s = scene.voodoo
-    blob_mesh = s.blob
-    if blob_mesh is None:
+    if s.blob is None:
         return
     try:
-        blob = load_blob(blob_mesh)
+        blob = load_blob(s.blob)
     except VoodooError:
         return
-    for obj in linked_objects(scene, blob_mesh):
-        link = obj[LINK_KEY]
-        mapping = mapping_from_list(link["axes"], link["mapping"])
-        rest = rest_vertices(obj)
-        modes = [m for m in s.modes if m.index < blob.n_modes]
-        key = obj.data.shape_keys
-        bag_key = _bag_of(key)
-        wanted = [
-            m
-            for m in modes
-            if m.enabled or (key and key.key_blocks.get(key_name(blob_mesh, m.name)))
-        ]
-        offsets = mode_offsets(blob, mapping, rest, [m.index for m in wanted])
-        for row, m in enumerate(wanted):
-            had = key is not None and key.key_blocks.get(key_name(blob_mesh, m.name)) is not None
-            kb = shape_for_mode(obj, blob_mesh, m, offsets[row], rest)
-            key = obj.data.shape_keys
-            path = f'key_blocks["{kb.name}"].value'
-            if not had and m.enabled:
-                bag_key = _add_mode_curve(scene, obj, blob_mesh, blob, link, m, path)
-            if bag_key is not None:
-                fc = bag_key.fcurves.find(path)
-                if fc is not None:
-                    fc.mute = not m.enabled
-        bag_obj = _bag_of(obj)
-        if bag_obj is not None:
-            for fc in bag_obj.fcurves:
-                if fc.data_path == "location":
-                    fc.mute = not s.apply_location
-                elif fc.data_path.startswith("rotation"):
-                    fc.mute = not s.apply_rotation
-                elif fc.data_path == "scale":
-                    fc.mute = not s.apply_scale
+    for obj in linked_objects(scene, s.blob):
+        _refresh_object(obj, s, blob)
 
 
-def _add_mode_curve(scene, obj, blob_mesh, blob, link, mode, path):
-    """Key a newly enabled mode from the stored take into the object's take action."""
+def _refresh_object(obj, s, blob) -> None:
+    link = obj[LINK_KEY]
+    mapping = mapping_from_list(link["axes"], link["mapping"])
+    rest = rest_vertices(obj)
+    key = obj.data.shape_keys
+    present = {kb.name for kb in key.key_blocks} if key is not None else set()
+    modes = [
+        m
+        for m in s.modes
+        if m.index < blob.n_modes and (m.enabled or key_name(s.blob, m.name) in present)
+    ]
+    offsets = mode_offsets(blob, mapping, rest, [m.index for m in modes])
+    for mode, offset in zip(modes, offsets, strict=True):
+        kb = shape_for_mode(obj, s.blob, mode, offset, rest)
+        path = f'key_blocks["{kb.name}"].value'
+        bag = _bag_of(obj.data.shape_keys)
+        fc = bag.fcurves.find(path) if bag is not None else None
+        if fc is None and mode.enabled:
+            fc = _add_mode_curve(obj, s.blob, blob, link, mode, path)
+        if fc is not None:
+            fc.mute = not mode.enabled
+    bag = _bag_of(obj)
+    if bag is not None:
+        for fc in bag.fcurves:
+            if fc.data_path == "location":
+                fc.mute = not s.apply_location
+            elif fc.data_path.startswith("rotation"):
+                fc.mute = not s.apply_rotation
+            elif fc.data_path == "scale":
+                fc.mute = not s.apply_scale
+
+
+def _add_mode_curve(obj, blob_mesh, blob, link, mode, path):
+    """Key a newly enabled mode from the stored take into the object's take action.
+
+    Returns the new F-curve, or None when the take's action is gone.
+    """
+    action = bpy.data.actions.get(link["action"])
+    if action is None:
+        return None
     take = load_take(blob_mesh, link["take"])
     layout = layout_for(blob, take)
     frames = take_frames(blob_mesh, link["take"], take)
     good = ~take.lost
     key = obj.data.shape_keys
-    action = bpy.data.actions.get(link["action"])
-    if action is None:
-        return _bag_of(key)
     key.animation_data_create()
     if key.animation_data.action is None:
-        slot = action.slots.new(id_type="KEY", name=key.name)
         key.animation_data.action = action
-        key.animation_data.action_slot = slot
-    bag = _bag_of(key)
+        key.animation_data.action_slot = action.slots.new(id_type="KEY", name=key.name)
     values = take.params[good, layout.modes.start + mode.index] / unit(blob)
-    _write_curve(bag, path, 0, frames[good].astype(np.float64), values, "Modes")
-    return bag
+    return _write_curve(_bag_of(key), path, 0, frames[good].astype(np.float64), values, "Modes")

@@ -64,7 +64,7 @@ class Recorder:
         if s.source == "CAMERA":
             self.source = open_source(int(s.camera_index))
             fps = scene.render.fps / scene.render.fps_base
-            self.max_frames = max_frames or int(np.ceil(s.camera_seconds * self.source.fps))
+            self.max_frames = max_frames or max(1, round(s.camera_seconds * self.source.fps))
             self.start_frame = scene.frame_current
             self._frame_of = lambda fr: self.start_frame + int(round(fr.time * fps))
         else:

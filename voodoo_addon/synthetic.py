@@ -325,7 +325,6 @@ def scenario_take(
         noise = 0.05 if name == "noise" else 0.01
     rng = np.random.default_rng(seed + 100)
     images = [scene.render(p, noise=noise, rng=rng) for p in poses]
-    images[0] = scene.render(poses[0], noise=noise, rng=np.random.default_rng(seed + 99))
     return images, contour, lambda i, pts: scene.forward(poses[i], pts)
 
 

@@ -39,11 +39,6 @@ class WarpGeometry:
     triangle: np.ndarray
     weights: np.ndarray
 
-    def positions(self, nodes: np.ndarray) -> np.ndarray:
-        """Where the template pixels go when the nodes move to ``nodes`` (m, 2): (n, 2)."""
-        corner = nodes[self.triangles[self.triangle]]  # (n, 3, 2)
-        return np.einsum("pk,pkd->pd", self.weights, corner)
-
 
 #: ``cv2.remap`` wants maps narrower than 32767 columns: long point lists are folded into rows
 #: of this many.

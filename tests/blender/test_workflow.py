@@ -255,3 +255,45 @@ def test_record_take_from_a_script_tracks_the_clip(prepared, make):
     # without an event loop the modal operator runs as the batch operator
     assert bpy.ops.voodoo.record_take() == {"FINISHED"}
     assert ctx.scene.voodoo.last_take == "Take"
+
+
+def test_live_camera_take_is_time_stamped_and_saved(
+    prepared, sub, make, clip_file, monkeypatch, tmp_path
+):
+    """A camera at 15 fps into a 30 fps scene: frames land on every other scene frame, the
+    footage is kept as a clip. (No webcam here: a source that behaves like one stands in.)"""
+    ctx = prepared
+    engine_sources = sub("voodoo_addon.sources")
+    recorder = sub("operators.recorder")
+
+    class FakeCamera(engine_sources.ArraySource):
+        live = True
+
+        def read(self):
+            frame = super().read()
+            if frame is None:
+                return None
+            return engine_sources.Frame(frame.image, frame.index, frame.index / 15.0)
+
+    monkeypatch.setattr(
+        recorder, "open_source", lambda spec: FakeCamera(clip_file["frames"], fps=15.0)
+    )
+    bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "camera.blend"))  # footage goes beside it
+    s = ctx.scene.voodoo
+    s.source = "CAMERA"
+    s.camera_seconds = 0.6  # 9 frames at 15 fps
+    s.target = make.flat_target(keyed=False)
+    ctx.scene.render.fps = 30
+    ctx.scene.frame_set(10)
+    rec = recorder.Recorder(ctx, live=False)
+    while rec.step():
+        pass
+    info = rec.finish()
+    assert info["frames"] == 9
+    frames = sub("operators.apply").take_frames(
+        s.blob, info["take"], sub("operators.store").load_take(s.blob, info["take"])
+    )
+    assert frames.tolist() == list(range(10, 28, 2))
+    clip = info["clip"]
+    assert clip.frame_start == 10 and clip.frame_duration == 9
+    assert (tmp_path / "voodoo_footage" / f"{info['take']}.avi").exists()
