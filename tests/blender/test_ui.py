@@ -1,0 +1,80 @@
+"""The panels draw only real properties and operators.
+
+The bpy module has no window to draw into, so each panel's ``draw`` runs against a layout that
+records and checks what it is given.
+"""
+
+from types import SimpleNamespace
+
+import bpy
+import pytest
+
+
+class RecordingLayout:
+    """Stands in for bpy.types.UILayout; checks every property and operator it is given."""
+
+    def __init__(self, log):
+        self.log = log
+        self.active = True
+        self.enabled = True
+
+    def _child(self, *args, **kwargs):
+        return RecordingLayout(self.log)
+
+    row = column = box = split = _child
+
+    def prop(self, data, name, **kwargs):
+        assert name in data.bl_rna.properties, f"{type(data).__name__} has no property {name!r}"
+        self.log.append(("prop", name))
+
+    def operator(self, idname, **kwargs):
+        module, name = idname.split(".")
+        assert hasattr(getattr(bpy.ops, module), name), f"no operator {idname}"
+        self.log.append(("operator", idname))
+        return SimpleNamespace()  # the panel may set operator properties on it
+
+    def label(self, **kwargs):
+        self.log.append(("label", kwargs.get("text", "")))
+
+    def template_list(self, list_type, list_id, data, prop, active_data, active_prop, **kw):
+        assert hasattr(bpy.types, list_type), f"no UIList {list_type}"
+        assert prop in data.bl_rna.properties and active_prop in active_data.bl_rna.properties
+        self.log.append(("list", prop))
+
+
+@pytest.mark.parametrize("source", ["CLIP", "CAMERA"])
+def test_panels_draw_real_properties_and_operators(prepared, sub, source):
+    ctx = prepared
+    ctx.scene.voodoo.source = source
+    ctx.scene.voodoo.last_take = "Take"
+    panels = [cls for name in ("ui_clip", "ui_view3d") for cls in sub(f"operators.{name}").classes]
+    log = []
+    for cls in panels:
+        cls.draw(SimpleNamespace(layout=RecordingLayout(log)), ctx)
+    operators = {name for kind, name in log if kind == "operator"}
+    assert {
+        "voodoo.capture_frame",
+        "voodoo.contour_from_mask",
+        "voodoo.contour_auto",
+        "voodoo.sketch_contour",
+        "voodoo.build_blob",
+        "voodoo.record_take",
+        "voodoo.track_clip",
+        "voodoo.apply_take",
+        "voodoo.select_modes",
+        "voodoo.smooth_take",
+    } <= operators
+    assert ("list", "modes") in log
+    assert (("prop", "camera_index") in log) == (source == "CAMERA")
+
+
+def test_mode_list_rows(prepared, sub):
+    ui_modes = sub("operators.ui_modes")
+    log = []
+    s = prepared.scene.voodoo
+    row_layout = RecordingLayout(log)
+    ui_modes.VOODOO_UL_modes.draw_item(
+        None, prepared, row_layout, s, s.modes[0], 0, s, "active_mode", 0
+    )
+    assert ("prop", "enabled") in log and ("prop", "gain") in log
+    assert ("label", s.modes[0].name) in log
