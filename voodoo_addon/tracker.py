@@ -20,14 +20,12 @@ from .levels import LazyPyramid, Level, Solver
 from .norms import LorentzianNorm, RobustNorm
 from .params import ParamLayout, compose, node_positions
 from .reacquire import FeatureMatcher
+from .residuals import Evaluation, confidence, evaluate, solve
 from .warp import CpuWarp, WarpBackend
 
-_ONES3 = np.ones(3, dtype=np.float32)
 #: Coarse grid search around each seed pose, coarsest-level pixels.
 SEARCH_RADIUS = 6
 SEARCH_STEP = 3
-#: Pixels the confidence's correlation is computed on (an even subsample).
-CONFIDENCE_SAMPLES = 2000
 #: An update that changes a lighting term by more than this is not converged.
 PHOTOMETRIC_TOLERANCE = 2e-3
 
@@ -127,19 +125,6 @@ class TrackResult:
     occluded: float
     reacquired: bool = False
     warnings: tuple = field(default=(), compare=False)
-
-
-@dataclass
-class _Eval:
-    """One evaluation of the warp at one level."""
-
-    samples: np.ndarray  # (n, 3) float32
-    dbar: np.ndarray  # (n, 3) float32 robust differences
-    valid: np.ndarray  # (n,) bool: inside the picture
-    use: np.ndarray  # (n,) bool: taken into the solve (valid, not occluded)
-    block_weight: np.ndarray  # (n_blocks,) 0/1
-    residual: float
-    weighted: bool
 
 
 class Tracker:
@@ -403,7 +388,7 @@ class Tracker:
             info["occluded"] = 1.0 - float(np.count_nonzero(last.use)) / len(last.use)
         else:
             info["occluded"] = 0.0
-        return a, self._confidence(self.levels[0], last), info
+        return a, confidence(self.levels[0], last), info
 
     @staticmethod
     def _better(a, b):
@@ -486,7 +471,7 @@ class Tracker:
                     break
             else:
                 best_a, best = a, ev
-            delta_act = self._solve(solver, level, ev, a[act])
+            delta_act = solve(solver, level, ev, a[act])
             if not np.isfinite(delta_act).all():
                 break
             delta = np.zeros_like(a)
@@ -503,95 +488,6 @@ class Tracker:
                 break
         return best_a, best, its
 
-    def _evaluate(self, level: Level, a, origin, box, nodes=None) -> _Eval | None:
-        """Warp, sample and compare at ``a``: the robust difference image (Eq. 12, 16).
-
-        ``nodes`` are ``level.nodes(a)`` when the caller has them.
-        """
-        n = len(level)
-        if nodes is None:
-            nodes = level.nodes(a)
-        pos = level.positions(a, nodes)
-        pos -= origin[:, None]
-        x, y = pos[0, :n], pos[1, :n]
-        if x.min() >= 0 and y.min() >= 0 and x.max() <= box[0] and y.max() <= box[1]:
-            valid, n_valid = None, n
-        else:
-            valid = (x >= 0) & (y >= 0) & (x <= box[0]) & (y <= box[1])
-            n_valid = int(np.count_nonzero(valid))
-            if n_valid < 0.15 * n:
-                return None
-        samples = self.backend.sample(level.geometry, nodes - origin, pos)
-        c, b = self.layout.channel_gain_offset(a)
-        inv_c = (1.0 / c).astype(np.float32)
-        # d = I0 - (S - b) / c, then Eq. 16: dbar = sign(d) sqrt(rho(d)).
-        d = np.multiply(samples, inv_c)
-        np.subtract(level.template, d, out=d)
-        d += (b / c).astype(np.float32)
-        rho = self.norm.rho(d)
-        dbar = np.sqrt(rho)
-        np.copysign(dbar, d, out=dbar)
-        loss = rho @ _ONES3  # per pixel, summed over channels (faster than .sum(axis=1))
-        valid_all = valid is None
-        if valid_all:
-            valid = level.all_valid
-        nb = level.n_blocks
-        if valid_all:
-            r_block = np.bincount(level.block, weights=loss, minlength=nb) / level.block_size
-            seen = np.ones(nb, dtype=bool)
-        else:
-            vcount = np.bincount(level.block, weights=valid, minlength=nb)
-            vsum = np.bincount(level.block, weights=loss * valid, minlength=nb)
-            seen = vcount >= 0.5 * level.block_size
-            r_block = np.where(seen, vsum / np.maximum(vcount, 1.0), 0.0)
-        weight = seen.astype(np.float64)
-        use = valid
-        # Occlusion rejection only at full resolution: on coarse levels a block that is merely
-        # misaligned looks occluded, and dropping it loses the texture that would align it.
-        if seen.any() and level.index == 0:
-            med = float(np.median(r_block[seen]))
-            limit = self.options.outlier_factor * max(med, self._floor)
-            out = seen & (r_block > limit)
-            if out.any() and out.sum() <= 0.5 * seen.sum():
-                weight[out] = 0.0
-                # Something covers part of the blob: also drop its stray pixels from the
-                # blocks that stay (their rows come out of the Gram matrix exactly).
-                use = valid & (weight[level.block] > 0) & (loss <= limit)
-        if use is valid and not weight.all():
-            use = valid & (weight[level.block] > 0)
-        weighted = use is not level.all_valid
-        if weighted:
-            n_use = int(np.count_nonzero(use))
-            if n_use == 0:
-                return None
-            residual = float(loss[use].mean())
-        else:
-            residual = float(loss.mean())
-        return _Eval(samples, dbar, valid, use, weight, residual, weighted)
-
-    def _solve(self, solver: Solver, level: Level, ev: _Eval, a_act) -> np.ndarray:
-        """Parameter update (active parameters) from one evaluation.
-
-        Unweighted: the precomputed ``N B+`` of Eq. 14-15 with the Eq. 10 prior. Weighted
-        (occlusion, blob partly off the picture): the same least squares on the collapsed
-        basis restricted to the used pixels, with the Gram matrix assembled from per-block
-        Gram matrices minus the rows of the dropped pixels of kept blocks.
-        """
-        if not ev.weighted:
-            return solver.update @ ev.dbar.ravel() - solver.prior @ a_act
-        gram = np.tensordot(ev.block_weight, solver.block_gram, axes=1)
-        gone = np.nonzero((ev.block_weight[level.block] > 0) & ~ev.use)[0]
-        if len(gone):
-            rows = (3 * gone[:, None] + np.arange(3)).ravel()
-            jg = solver.jacobian[rows].astype(np.float64)
-            gram = gram - jg.T @ jg
-        rhs = solver.jacobian.T @ (ev.dbar * ev.use[:, None]).ravel()
-        rhs = rhs - solver.reg * a_act
-        try:
-            return np.linalg.solve(gram + solver.penalty, rhs)
-        except np.linalg.LinAlgError:
-            return np.zeros_like(a_act)
-
     def _plausible(self, a: np.ndarray) -> bool:
         if not np.isfinite(a).all():
             return False
@@ -600,31 +496,16 @@ class Tracker:
         amp = a[self.layout.modes]
         return bool(np.all(np.abs(amp) < 0.6 * self.blob.length))
 
-    def _confidence(self, level: Level, ev: _Eval) -> float:
-        """Correlation of template and frame over the visible pixels, times visibility.
-
-        Per-channel normalised cross-correlation (so insensitive to the lighting model),
-        averaged with the template's channel variances as weights, on an even subsample.
-        """
-        step = max(1, len(ev.valid) // CONFIDENCE_SAMPLES)
-        t = level.template[::step]
-        s = ev.samples[::step]
-        if ev.valid is level.all_valid:
-            visible = 1.0
-        else:
-            visible = float(np.count_nonzero(ev.valid)) / len(ev.valid)
-            v = ev.valid[::step]
-            if np.count_nonzero(v) < 10:
-                return 0.0
-            t, s = t[v], s[v]
-        k = len(t)
-        st, ss = t.sum(axis=0), s.sum(axis=0)
-        var_t = np.einsum("ij,ij->j", t, t) - st * st / k
-        var_s = np.einsum("ij,ij->j", s, s) - ss * ss / k
-        cov = np.einsum("ij,ij->j", t, s) - st * ss / k
-        den = np.sqrt(np.maximum(var_t * var_s, 0.0))
-        ok = den > 1e-9
-        if not ok.any():
-            return 0.0
-        ncc = float((cov[ok] / den[ok] * var_t[ok]).sum() / var_t[ok].sum())
-        return float(np.clip(ncc, 0.0, 1.0) * min(1.0, visible / 0.75))
+    def _evaluate(self, level: Level, a, origin, box, nodes=None) -> Evaluation | None:
+        return evaluate(
+            level,
+            a,
+            origin,
+            box,
+            self.backend,
+            self.norm,
+            self.layout,
+            self.options.outlier_factor,
+            self._floor,
+            nodes,
+        )
