@@ -143,6 +143,16 @@ class PixelSet:
     def __len__(self) -> int:
         return len(self.coords)
 
+    def positions(self, nodes: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+        """Where each pixel goes when the mesh nodes move to ``nodes`` (n_nodes, 2).
+
+        Returns
+        -------
+        (n_pix, 2) float64
+        """
+        corner = nodes[triangles[self.triangle]]  # (n_pix, 3, 2)
+        return np.einsum("pk,pkd->pd", self.weights, corner)
+
 
 def barycentric(points: np.ndarray, corners: np.ndarray) -> np.ndarray:
     """Barycentric coordinates of points (n, 2) in one triangle (3, 2): (n, 3)."""
