@@ -9,14 +9,14 @@ STAMP  := $(VENV)/.installed-$(shell cat requirements.txt requirements-dev.txt |
 setup: $(STAMP)
 
 $(STAMP): requirements.txt requirements-dev.txt
-	$(PYTHON) -m venv $(VENV)
+	$(PYTHON) -m venv $(VENV) || { scripts/ensure_debs.sh python3-venv && $(PYTHON) -m venv $(VENV); }
 	$(BIN)/python -m pip install -q --upgrade pip
 	$(BIN)/python -m pip install -q -r requirements-dev.txt
 	rm -f $(VENV)/.installed-*
 	touch $@
 
 mesa:
-	@scripts/ensure_mesa.sh
+	@scripts/ensure_debs.sh libegl1 libegl-mesa0 libgl1-mesa-dri libgbm1
 
 ## Run the whole test suite (engine + real Blender, headless).
 test: setup mesa
