@@ -78,7 +78,7 @@ class VOODOO_PG_settings(bpy.types.PropertyGroup):
 
     # Blob
     blob: PointerProperty(name="Blob", type=bpy.types.Mesh)
-    n_modes: IntProperty(name="Modes", default=14, min=1, max=60)
+    n_modes: IntProperty(name="Modes", default=20, min=1, max=60)
     min_angle: FloatProperty(
         name="Min Angle",
         default=25.0,

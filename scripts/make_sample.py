@@ -41,6 +41,8 @@ DEFAULT_FRAMES = 150
 SEED = 1998
 VIDEO_NAME = "sample_take.mp4"
 CONTOUR_NAME = "sample_take.json"
+TRUTH_NAME = "sample_truth.npz"
+TRUTH_STRIDE = 2  # keep every 2nd slab vertex along each axis for the ground truth
 
 # Orthographic camera looking down -Z: ORTHO_SCALE world units span the frame width.
 ORTHO_SCALE = 8.0
@@ -134,6 +136,9 @@ def parse_args(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("samples"), help="output folder")
     parser.add_argument("--frames", type=int, default=DEFAULT_FRAMES, help="clip length")
+    parser.add_argument(
+        "--truth-only", action="store_true", help="write the ground truth, render nothing"
+    )
     return parser.parse_args(argv)
 
 
@@ -372,6 +377,31 @@ def region_outline(scene, slab):
     return rounded_rectangle((low + high) / 2, half_size, radius, REGION_SPACING)
 
 
+def lattice_truth(scene, slab):
+    """Where a lattice of slab points is in every frame: the take's ground truth.
+
+    The slab is a regular grid of vertices; every ``TRUTH_STRIDE``-th one along each axis is
+    projected in every frame. Frame 0 shows the slab at rest, so there the lattice is an
+    axis-aligned grid and any point of the slab can be located in it bilinearly.
+
+    Returns
+    -------
+    (n_frames, rows, cols, 2) float32
+        OpenCV pixel coordinates.
+    """
+    co = np.array([v.co[:2] for v in slab.data.vertices])
+    col = np.round((co[:, 0] / SLAB_SIZE[0] + 0.5) * SLAB_SEGMENTS[0]).astype(int)
+    row = np.round((0.5 - co[:, 1] / SLAB_SIZE[1]) * SLAB_SEGMENTS[1]).astype(int)  # image down
+    keep = (col % TRUTH_STRIDE == 0) & (row % TRUTH_STRIDE == 0)
+    order = np.lexsort((col[keep], row[keep]))
+    shape = (SLAB_SEGMENTS[1] // TRUTH_STRIDE + 1, SLAB_SEGMENTS[0] // TRUTH_STRIDE + 1)
+    frames = []
+    for frame in range(scene.frame_start, scene.frame_end + 1):
+        scene.frame_set(frame)
+        frames.append(projected_vertices(scene, slab)[keep][order].reshape(*shape, 2))
+    return np.array(frames, dtype=np.float32)
+
+
 def max_speed(scene, slab):
     """Largest per-frame image displacement of any slab vertex over the clip, in pixels."""
     previous, fastest = None, 0.0
@@ -397,6 +427,11 @@ def main(argv=None):
     contour_path = args.out / CONTOUR_NAME
     contour_path.write_text(json.dumps({"points": np.round(points, 2).tolist()}) + "\n")
     print(f"max slab speed {max_speed(scene, slab):.1f} px/frame")
+    truth_path = args.out / TRUTH_NAME
+    np.savez_compressed(truth_path, lattice=lattice_truth(scene, slab))
+    print(f"wrote {truth_path} ({truth_path.stat().st_size / 1e6:.2f} MB)")
+    if args.truth_only:
+        return
 
     bpy.ops.render.render(animation=True)
     print(

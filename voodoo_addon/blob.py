@@ -59,7 +59,7 @@ class BlobOptions:
         by Rayleigh-Ritz on the same M and K (see :func:`voodoo_addon.fem.select_modes`).
     """
 
-    n_modes: int = 14
+    n_modes: int = 20
     min_angle: float = 25.0
     max_area: float | None = None
     simplify_tolerance: float = 0.75

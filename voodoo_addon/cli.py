@@ -24,7 +24,7 @@ def _blob_options(args):
 
 
 def _add_blob_args(p):
-    p.add_argument("--modes", type=int, default=14, help="elastic modes (default 14)")
+    p.add_argument("--modes", type=int, default=20, help="elastic modes (default 20)")
     p.add_argument("--min-angle", type=float, default=25.0, help="smallest triangle angle, degrees")
     p.add_argument("--max-area", type=float, default=None, help="largest triangle, square pixels")
     p.add_argument(

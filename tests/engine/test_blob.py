@@ -56,7 +56,7 @@ def test_blob_contents(blob, foam):
     assert blob.vertices.shape == (m, 2) and blob.vertices.dtype == np.float64
     assert blob.triangles.dtype == np.int32 and blob.triangles.max() == m - 1
     assert blob.mass.shape == blob.stiffness.shape == (2 * m, 2 * m)
-    assert blob.modes.shape == (2 * m, k) and k == 14
+    assert blob.modes.shape == (2 * m, k) and k == 20
     assert blob.labels.shape == (k,) and blob.labels.dtype.kind == "U"
     assert blob.texture.dtype == np.float32 and blob.texture.ndim == 3
     np.testing.assert_array_equal(blob.frame_size, [320, 240])

@@ -68,7 +68,7 @@ def test_blob_writes_blob_and_preview(repo_root, files, tmp_path):
     )
     assert proc.returncode == 0, proc.stderr
     blob = load_blob(out)
-    assert blob.n_modes == 14
+    assert blob.n_modes == 20
     np.testing.assert_array_equal(blob.frame_size, [320, 240])
     pic = cv2.imread(str(preview))
     assert pic is not None and pic.ndim == 3 and pic.size > 0
@@ -175,7 +175,7 @@ def test_track_writes_the_contract_npz(repo_root, files, tmp_path):
     assert ((conf >= 0) & (conf <= 1)).all()
     assert labels.ndim == 1 and labels.dtype.kind == "U"
     assert tuple(labels[:4]) == SIMILARITY
-    assert len(labels) == 4 + 14 + 6
+    assert len(labels) == 4 + 20 + 6
     assert np.isfinite(v).all() and np.isfinite(params).all()
     # And the motion is right (the file is lossless): rest nodes follow the true motion.
     err = [np.linalg.norm(v[i] - truth(i, v[0]), axis=1).mean() for i in range(t)]

@@ -70,7 +70,7 @@ def test_modes_are_m_orthogonal_to_the_constrained_fields(any_blob):
 
 def test_stiffness_increases_and_is_positive(any_blob):
     w2 = any_blob.stiffness_penalty
-    assert any_blob.n_modes == 14
+    assert any_blob.n_modes == 20
     assert (w2 > 0).all()
     assert (np.diff(w2) >= 0).all()
 
