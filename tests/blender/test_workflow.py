@@ -297,3 +297,38 @@ def test_live_camera_take_is_time_stamped_and_saved(
     clip = info["clip"]
     assert clip.frame_start == 10 and clip.frame_duration == 9
     assert (tmp_path / "voodoo_footage" / f"{info['take']}.avi").exists()
+
+
+def test_modal_recording_steps_on_timer_and_keeps_the_take_on_escape(prepared, sub, make):
+    """Drive the modal operator's own modal() with the events Blender would send."""
+    from types import SimpleNamespace
+
+    ctx = prepared
+    ctx.scene.voodoo.target = make.flat_target(keyed=False)
+    op_cls = sub("operators.op_record").VOODOO_OT_record_take
+    reports = []
+
+    class Harness:  # the operator's methods, run on a stand-in for the operator instance
+        modal = op_cls.__dict__["modal"]
+        cancel = op_cls.__dict__["cancel"]
+        _end = op_cls.__dict__["_end"]
+        _remove_timer = op_cls.__dict__["_remove_timer"]
+        _timer = None
+
+        def report(self, kind, message):
+            reports.append((tuple(kind), message))
+
+    op = Harness()
+    op._recorder = sub("operators.recorder").Recorder(ctx, live=True)
+    timer = SimpleNamespace(type="TIMER")
+    assert op.modal(ctx, SimpleNamespace(type="MOUSEMOVE")) == {"PASS_THROUGH"}
+    for _ in range(5):
+        assert op.modal(ctx, timer) == {"RUNNING_MODAL"}
+    assert len(op._recorder.rows) == 5
+    assert op.modal(ctx, SimpleNamespace(type="ESC")) == {"FINISHED"}
+    take = ctx.scene.voodoo.last_take
+    assert take == "Take"
+    stored = sub("operators.store").load_take(ctx.scene.voodoo.blob, take)
+    assert len(stored) == 5  # what was recorded before Esc is kept, and applied
+    assert any("applied as action" in m for _, m in reports)
+    assert ctx.scene.voodoo.target.animation_data.action.name.startswith("Take")
