@@ -6,6 +6,8 @@ the engine's pickle-free ``.npz`` bytes -- the exact blob, surviving save and re
 recorded with a blob are stored beside it, under ``["voodoo_takes"][name]``.
 """
 
+import uuid
+
 import bpy
 import numpy as np
 
@@ -14,6 +16,8 @@ from ..voodoo_addon.errors import VoodooError
 from ..voodoo_addon.take import Take, take_from_bytes, take_to_bytes
 
 BLOB_KEY = "voodoo_blob"
+#: A fresh id per stored blob, so the parsed blob can be cached without reading its bytes.
+BLOB_ID_KEY = "voodoo_blob_id"
 TAKES_KEY = "voodoo_takes"
 #: Pixels per Blender unit of the blob mesh shown in the file.
 DISPLAY_SCALE = 100.0
@@ -34,19 +38,22 @@ def store_blob(name: str, blob: ActiveBlob) -> bpy.types.Mesh:
     mesh.from_pydata(v.tolist(), [], blob.triangles.tolist())
     mesh.update()
     mesh[BLOB_KEY] = blob_to_bytes(blob)
+    mesh[BLOB_ID_KEY] = uuid.uuid4().hex
     mesh.use_fake_user = True
     return mesh
 
 
 def load_blob(mesh) -> ActiveBlob:
-    """The blob stored on a mesh (parsed once per stored version)."""
+    """The blob stored on a mesh.
+
+    Parsed once per mesh and stored blob: the overlay asks for it on every redraw.
+    """
     if not is_blob(mesh):
         raise VoodooError("No blob is built yet: capture a frame, outline it, then Build Blob.")
-    data = bytes(mesh[BLOB_KEY])
-    key = (mesh.name_full, len(data), hash(data[-256:]))
-    blob = _cache.get(key)
+    key = (mesh.session_uid, mesh.get(BLOB_ID_KEY))
+    blob = _cache.get(key) if key[1] is not None else None
     if blob is None:
-        blob = blob_from_bytes(data, source=f"Blob {mesh.name!r}")
+        blob = blob_from_bytes(bytes(mesh[BLOB_KEY]), source=f"Blob {mesh.name!r}")
         _cache.clear()
         _cache[key] = blob
     return blob
