@@ -257,21 +257,17 @@ class Tracker:
         need = opt.reacquire_above if was_lost else opt.lost_below
         a, conf, info = self._register(frame, start, wide=was_lost)
         warnings = []
-        if conf < need and not was_lost:
-            # Wider search from the last good pose before giving up.
-            a2, c2, i2 = self._register(frame, self.last_good, wide=True)
+        # Before giving up: a wide search from the last good pose, then from features.
+        for fallback in (self._wide_start, self._feature_start):
+            if conf >= need:
+                break
+            start2 = fallback(frame, was_lost)
+            if start2 is None:
+                continue
+            a2, c2, i2 = self._register(frame, start2, wide=True)
             i2["iterations"] += info["iterations"]
             if c2 > conf:
                 a, conf, info = a2, c2, i2
-        if conf < need and self._matcher is not None:
-            guess = self._matcher.guess(frame, self.blob.centre, self.last_good)
-            if guess is not None:
-                frozen = list(self.frozen)
-                guess[frozen] = self.last_good[frozen]
-                a2, c2, i2 = self._register(frame, guess, wide=True)
-                i2["iterations"] += info["iterations"]
-                if c2 > conf:
-                    a, conf, info = a2, c2, i2
         if conf >= need:
             self._last_residual = info["residual"]
             self._prev = None if was_lost else self.state.copy()
@@ -298,6 +294,20 @@ class Tracker:
         )
 
     # ------------------------------------------------------------------ internals
+
+    def _wide_start(self, frame, was_lost):
+        """The last good pose (already searched wide when the blob was lost)."""
+        return None if was_lost else self.last_good
+
+    def _feature_start(self, frame, was_lost):
+        """A pose from SIFT matches against the template, frozen parameters kept."""
+        if self._matcher is None:
+            return None
+        guess = self._matcher.guess(frame, self.blob.centre, self.last_good)
+        if guess is not None:
+            frozen = list(self.frozen)
+            guess[frozen] = self.last_good[frozen]
+        return guess
 
     def _check_frame(self, frame: np.ndarray) -> np.ndarray:
         frame = np.asarray(frame)
