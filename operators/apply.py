@@ -223,7 +223,8 @@ def linked_objects(scene, blob_mesh):
     return out
 
 
-def _bag_of(id_data):
+def active_channelbag(id_data):
+    """The channelbag of an ID's assigned action slot, or None."""
     ad = id_data.animation_data if id_data is not None else None
     if ad is None or ad.action is None or ad.action_slot is None:
         return None
@@ -262,13 +263,13 @@ def _refresh_object(obj, s, blob) -> None:
     for mode, offset in zip(modes, offsets, strict=True):
         kb = shape_for_mode(obj, s.blob, mode, offset, rest)
         path = f'key_blocks["{kb.name}"].value'
-        bag = _bag_of(obj.data.shape_keys)
+        bag = active_channelbag(obj.data.shape_keys)
         fc = bag.fcurves.find(path) if bag is not None else None
         if fc is None and mode.enabled:
             fc = _add_mode_curve(obj, s.blob, blob, link, mode, path)
         if fc is not None:
             fc.mute = not mode.enabled
-    bag = _bag_of(obj)
+    bag = active_channelbag(obj)
     if bag is not None:
         for fc in bag.fcurves:
             if fc.data_path == "location":
@@ -297,4 +298,6 @@ def _add_mode_curve(obj, blob_mesh, blob, link, mode, path):
         key.animation_data.action = action
         key.animation_data.action_slot = action.slots.new(id_type="KEY", name=key.name)
     values = take.params[good, layout.modes.start + mode.index] / unit(blob)
-    return _write_curve(_bag_of(key), path, 0, frames[good].astype(np.float64), values, "Modes")
+    return _write_curve(
+        active_channelbag(key), path, 0, frames[good].astype(np.float64), values, "Modes"
+    )

@@ -1,22 +1,14 @@
 import bpy
 
 from ..voodoo_addon.errors import VoodooError
-from .apply import LINK_KEY
+from .apply import LINK_KEY, active_channelbag
 from .common import reports_errors, settings
 
 
 def _take_curves(obj):
     """F-curves of the take action on an object and on its shape-key datablock."""
-    from bpy_extras import anim_utils
-
-    curves = []
-    for id_data in (obj, obj.data.shape_keys):
-        ad = getattr(id_data, "animation_data", None)
-        if ad is not None and ad.action is not None and ad.action_slot is not None:
-            bag = anim_utils.action_get_channelbag_for_slot(ad.action, ad.action_slot)
-            if bag is not None:
-                curves.extend(bag.fcurves)
-    return curves
+    bags = (active_channelbag(obj), active_channelbag(obj.data.shape_keys))
+    return [fc for bag in bags if bag is not None for fc in bag.fcurves]
 
 
 class VOODOO_OT_smooth_take(bpy.types.Operator):
