@@ -13,7 +13,6 @@ from bpy_extras import anim_utils
 from mathutils import Matrix
 
 from ..voodoo_addon.errors import VoodooError
-from ..voodoo_addon.params import ParamLayout
 from ..voodoo_addon.retarget import (
     fit_mapping,
     mapping_from_list,
@@ -21,6 +20,7 @@ from ..voodoo_addon.retarget import (
     rigid_transforms,
     unit,
 )
+from ..voodoo_addon.tracking.params import ParamLayout
 from .store import load_blob, load_take
 
 #: Custom property on a target: which blob/take drive it and how the doll was laid on it.

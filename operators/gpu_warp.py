@@ -13,7 +13,7 @@ import numpy as np
 from gpu_extras.batch import batch_for_shader
 
 from ..voodoo_addon.errors import VoodooError
-from ..voodoo_addon.warp import CpuWarp, WarpBackend, WarpGeometry
+from ..voodoo_addon.tracking.warp import CpuWarp, WarpBackend, WarpGeometry
 
 #: Renderer names of software rasterisers (slower than the CPU backend).
 SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "swrast", "swiftshader", "software rasterizer")

@@ -13,7 +13,7 @@ from ..voodoo_addon.errors import VoodooError
 from ..voodoo_addon.retarget import fit_mapping, mode_offsets, rigid_transforms, unit
 from ..voodoo_addon.sources import open_source
 from ..voodoo_addon.take import Take
-from ..voodoo_addon.tracker import Tracker
+from ..voodoo_addon.tracking import Tracker
 from . import overlay
 from .apply import apply_take, check_target, layout_for, rest_vertices, shape_for_mode
 from .frames import active_clip, open_clip, scene_frame

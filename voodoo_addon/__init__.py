@@ -23,13 +23,13 @@ from .contour import load_contour_json, save_contour_json, simplify_contour, val
 from .errors import VoodooError
 from .images import read_image, to_float_rgb
 from .interpolants import GaussianInterpolant
-from .norms import LorentzianNorm, QuadraticNorm, RobustNorm
-from .params import ParamLayout
 from .segment import mask_contour, segment_contour, segment_mask
 from .sources import FrameSource, open_source
 from .take import Take, load_take, save_take, track_source
-from .tracker import Tracker, TrackerOptions, TrackResult
-from .warp import CpuWarp, WarpBackend, WarpGeometry
+from .tracking import Tracker, TrackerOptions, TrackResult
+from .tracking.norms import LorentzianNorm, QuadraticNorm, RobustNorm
+from .tracking.params import ParamLayout
+from .tracking.warp import CpuWarp, WarpBackend, WarpGeometry
 
 __all__ = [
     "ActiveBlob",

@@ -21,7 +21,7 @@ import numpy as np
 
 from .blob import BlobOptions, build_blob
 from .synthetic import Pose, foam_scene
-from .tracker import Tracker
+from .tracking import Tracker
 
 THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMEXPR_NUM_THREADS")
 

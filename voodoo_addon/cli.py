@@ -60,7 +60,7 @@ def cmd_track(args) -> int:
     from .contour import load_contour_json
     from .sources import open_source
     from .take import ProgressBar, save_take, track_source
-    from .tracker import Tracker
+    from .tracking import Tracker
 
     with open_source(args.video) as src:
         if args.blob:

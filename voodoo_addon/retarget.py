@@ -20,7 +20,7 @@ import numpy as np
 
 from .blob import ActiveBlob
 from .errors import VoodooError
-from .params import ParamLayout
+from .tracking.params import ParamLayout
 
 #: Plane axes (first, second) and the remaining depth axis, by name.
 AXES = {"XY": (0, 1, 2), "XZ": (0, 2, 1), "YZ": (1, 2, 0)}

@@ -15,7 +15,7 @@ import cv2
 import numpy as np
 
 from .labels import FIELDS
-from .params import rotation
+from .tracking.params import rotation
 
 
 def painted_foam(height: int, width: int, seed: int = 0, cell: int = 18) -> np.ndarray:

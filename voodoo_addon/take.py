@@ -14,7 +14,7 @@ import numpy as np
 from .blob import ActiveBlob
 from .errors import VoodooError, read_file, write_file
 from .sources import FrameSource
-from .tracker import Tracker
+from .tracking import Tracker
 
 TAKE_KIND = "voodoo-take"
 TAKE_VERSION = 1
@@ -30,7 +30,7 @@ class Take:
         Mesh nodes in every frame, pixel coordinates (OpenCV convention).
     triangles : (t, 3) int32
     params : (T, P) float64
-        Parameter vectors (see :mod:`voodoo_addon.params`); held at the last good value on
+        Parameter vectors (see :mod:`voodoo_addon.tracking.params`); held at the last good value on
         lost frames.
     confidence : (T,) float64
         In [0, 1].

@@ -16,8 +16,8 @@ import pytest
 from voodoo_addon.blob import load_blob
 from voodoo_addon.contour import save_contour_json
 from voodoo_addon.images import write_image
-from voodoo_addon.params import SIMILARITY
 from voodoo_addon.synthetic import scenario_take, write_frames
+from voodoo_addon.tracking.params import SIMILARITY
 
 N_FRAMES = 36  # more than 30: the progress bar is shown unless --quiet
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from voodoo_addon.norms import LorentzianNorm, QuadraticNorm, RobustNorm
+from voodoo_addon.tracking.norms import LorentzianNorm, QuadraticNorm, RobustNorm
 
 _POS = np.geomspace(1e-6, 5.0, 1000)
 E = np.concatenate([-_POS[::-1], [0.0], _POS])  # exactly symmetric about 0

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from voodoo_addon.params import (
+from voodoo_addon.tracking.params import (
     SIMILARITY,
     ParamLayout,
     compose,

@@ -12,7 +12,7 @@ from voodoo_addon.errors import VoodooError
 from voodoo_addon.sources import ArraySource
 from voodoo_addon.synthetic import scenario_take
 from voodoo_addon.take import ProgressBar, Take, load_take, save_take, track_source
-from voodoo_addon.tracker import Tracker
+from voodoo_addon.tracking import Tracker
 
 N = 12
 

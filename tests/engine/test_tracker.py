@@ -14,7 +14,7 @@ import skimage.data
 from voodoo_addon.blob import build_blob
 from voodoo_addon.errors import VoodooError
 from voodoo_addon.synthetic import Pose, foam_scene, scenario_poses, scenario_take
-from voodoo_addon.tracker import Tracker, TrackerOptions, TrackResult
+from voodoo_addon.tracking import Tracker, TrackerOptions, TrackResult
 
 FRAMES = 24
 SIZE = (320, 240)

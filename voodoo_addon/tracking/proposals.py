@@ -5,7 +5,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from .blob import ActiveBlob
+from ..blob import ActiveBlob
 from .params import similarity_from_matrix
 
 #: Fewest RANSAC inliers accepted as a sighting.

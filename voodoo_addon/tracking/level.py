@@ -1,4 +1,4 @@
-"""Pyramid levels of a blob and their difference-decomposition solvers (paper §5.2).
+"""Pyramid levels of a blob: template pixels, their warp and the difference basis (§5.2).
 
 Level ``l`` sees the capture frame at scale ``f = 2^-l`` (OpenCV ``pyrDown``: level pixel
 ``i`` sits on level-0 pixel ``2^l i``). Parameters stay in level-0 units at every level; only
@@ -7,15 +7,12 @@ the step sizes ``delta`` of the basis and the pixel units change.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import cv2
 import numpy as np
 import scipy.sparse
 
-from .blob import ActiveBlob
-from .mesh import TriMesh, rasterize
-from .norms import RobustNorm
+from ..blob import ActiveBlob
+from ..mesh import TriMesh, rasterize
 from .params import ParamLayout, node_positions
 from .warp import REMAP_ROW, WarpBackend, WarpGeometry
 
@@ -44,38 +41,6 @@ class LazyPyramid:
         while len(self._levels) <= level:
             self._levels.append(cv2.pyrDown(self._levels[-1]))
         return self._levels[level]
-
-
-@dataclass(eq=False)
-class Solver:
-    """Precomputed least squares for one level and one set of active parameters.
-
-    Attributes
-    ----------
-    active : (p,) int64
-        Indices into the parameter vector.
-    update : (p, 3n) float32
-        ``N (Bbar^T Bbar + Gamma)^-1 Bbar^T``: maps the robust difference image to ``da``.
-    prior : (p, p) float64
-        ``N (Bbar^T Bbar + Gamma)^-1 gamma' N^T Psi^2``: the regularisation pull on ``a``.
-    jacobian : (3n, p) float32
-        Difference basis collapsed per parameter (least-squares slope over the four steps),
-        for the weighted solve used when parts of the blob are occluded or off the frame.
-    block_gram : (n_blocks, p, p) float64
-        ``J_b^T J_b`` of every pixel block.
-    penalty : (p, p) float64
-        ``gamma' Psi^2 + ridge`` for the weighted solve.
-    reg : (p,) float64
-        ``gamma' psi_j^2`` (zero for unregularised parameters).
-    """
-
-    active: np.ndarray
-    update: np.ndarray
-    prior: np.ndarray
-    jacobian: np.ndarray
-    block_gram: np.ndarray
-    penalty: np.ndarray
-    reg: np.ndarray
 
 
 class Level:
@@ -147,7 +112,6 @@ class Level:
         _, self.block = np.unique(raw, return_inverse=True)
         self.n_blocks = int(self.block.max()) + 1
         self.block_size = np.bincount(self.block, minlength=self.n_blocks).astype(np.float64)
-        self._solvers: dict[tuple, Solver] = {}
 
     def __len__(self) -> int:
         return len(self.geometry.coords)
@@ -232,54 +196,3 @@ class Level:
                     diff = i0 - backend.sample(self.geometry, nodes, pos)
                 b[:, col] = diff.ravel()
         return b, nmat
-
-    def solver(
-        self,
-        backend: WarpBackend,
-        active,
-        norm: RobustNorm,
-        gamma: float,
-        penalties: np.ndarray,
-    ) -> Solver:
-        """The precomputed solve for ``active`` parameters (cached per set)."""
-        active = np.asarray(sorted(active), dtype=np.int64)
-        key = (tuple(active), float(gamma), norm.key)
-        if key in self._solvers:
-            return self._solvers[key]
-        b, nmat = self.basis(backend, active)
-        bbar = norm.transform(b)  # Eq. 16
-        rows = bbar.shape[0]
-        # Regularisation (Eq. 10): gamma * mean robust error is matched by gamma' on the sums.
-        psi2 = np.zeros(len(active))
-        lay = self.layout
-        for j, k in enumerate(active):
-            if lay.modes.start <= k < lay.modes.stop:
-                psi2[j] = penalties[k - lay.modes.start]
-        gam = gamma * rows
-        gram = bbar.T @ bbar
-        ridge = 1e-6 * np.trace(gram) / len(gram)
-        lhs = gram + gam * nmat.T @ (psi2[:, None] * nmat) + ridge * np.eye(len(gram))
-        inv_lhs = np.linalg.inv(lhs)
-        update = nmat @ inv_lhs @ bbar.T
-        prior = nmat @ inv_lhs @ (gam * nmat.T * psi2[None, :])
-        # Collapsed basis (least-squares slope over the steps) for the weighted solve.
-        denom = (nmat**2).sum(axis=1)  # (p,)
-        jac = bbar @ nmat.T / denom
-        pix_block = np.repeat(self.block, 3)
-        block_gram = np.zeros((self.n_blocks, len(active), len(active)))
-        for blk in range(self.n_blocks):
-            jb = jac[pix_block == blk]
-            block_gram[blk] = jb.T @ jb
-        jgram = block_gram.sum(axis=0)
-        penalty = np.diag(gam * psi2) + 1e-6 * np.trace(jgram) / len(jgram) * np.eye(len(active))
-        solver = Solver(
-            active=active,
-            update=np.ascontiguousarray(update, dtype=np.float32),
-            prior=prior,
-            jacobian=np.ascontiguousarray(jac, dtype=np.float32),
-            block_gram=block_gram,
-            penalty=penalty,
-            reg=gam * psi2,
-        )
-        self._solvers[key] = solver
-        return solver

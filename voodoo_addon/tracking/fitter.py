@@ -1,0 +1,269 @@
+"""Coarse-to-fine registration of a blob to one frame (paper §5.2, §7).
+
+:class:`CoarseToFineFitter` owns the blob's pyramid levels, one
+:class:`~voodoo_addon.tracking.decomposition.DifferenceDecomposition` per level, and the
+choice of which parameters each level may move. :meth:`CoarseToFineFitter.fit` registers
+from a start pose and returns a :class:`Fit`; it knows nothing of earlier frames (that is the
+tracker's business).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..blob import ActiveBlob
+from ..images import blur
+from .confidence import confidence
+from .decomposition import DifferenceDecomposition, Evaluation, LevelFit, Stopping
+from .level import LazyPyramid, Level
+from .norms import RobustNorm
+from .params import ParamLayout, node_positions
+from .warp import WarpBackend
+
+#: Coarse grid search around each seed pose, coarsest-level pixels.
+SEARCH_RADIUS = 6
+SEARCH_STEP = 3
+
+
+@dataclass(frozen=True)
+class Fit:
+    """One frame's registration from one start.
+
+    Attributes
+    ----------
+    params : (P,) float64
+    confidence : float
+        0 when nothing could be fitted.
+    iterations : int
+        Warps evaluated over all levels.
+    residual : float
+        Mean robust error per used pixel at the finest level (inf when nothing fitted).
+    occluded : float
+        Fraction of the finest level's pixels left out of the solve.
+    """
+
+    params: np.ndarray
+    confidence: float
+    iterations: int
+    residual: float = np.inf
+    occluded: float = 1.0
+
+
+class CoarseToFineFitter:
+    """Registers a blob to frames, coarse to fine.
+
+    Parameters
+    ----------
+    blob : ActiveBlob
+    layout : ParamLayout
+    backend : WarpBackend
+    norm : RobustNorm
+    options : TrackerOptions
+        Pyramid, budget, prior and stopping settings (see
+        :class:`~voodoo_addon.tracking.tracker.TrackerOptions`).
+    """
+
+    def __init__(self, blob: ActiveBlob, layout: ParamLayout, backend: WarpBackend, norm, options):
+        self.blob = blob
+        self.layout = layout
+        self.backend = backend
+        self.norm: RobustNorm = norm
+        self.options = opt = options
+        self.stopping = Stopping(
+            opt.max_iterations, opt.tolerance, opt.step_tolerance, opt.fine_capture
+        )
+        levels = [Level(blob, 0, layout, opt.pixel_budget, opt.block_grid)]
+        while len(levels) < opt.max_levels:
+            # Coarse levels only need to bring the fine level into range: a quarter of the
+            # budget per level down keeps them cheap on big blobs.
+            budget = opt.pixel_budget and opt.pixel_budget // 4 ** len(levels)
+            nxt = Level(blob, len(levels), layout, budget, opt.block_grid)
+            if len(nxt) < opt.min_level_pixels:
+                break
+            levels.append(nxt)
+        floor = 3.0 * float(norm.rho(np.array([norm.sigma / 2]))[0])
+        self.levels = [
+            DifferenceDecomposition(
+                lv,
+                layout,
+                backend,
+                norm,
+                opt.gamma,
+                blob.stiffness_penalty,
+                opt.outlier_factor,
+                floor,
+                self.nodes,
+            )
+            for lv in levels
+        ]
+        self.frozen: frozenset = frozenset()
+
+    def nodes(self, a: np.ndarray) -> np.ndarray:
+        """Mesh nodes (m, 2) in frame pixels for parameters ``a``."""
+        return node_positions(
+            a,
+            self.layout,
+            self.blob.vertices,
+            self.blob.modes[:, : self.layout.n_modes],
+            self.blob.centre,
+        )
+
+    def set_frozen(self, indices) -> None:
+        """Hold these parameter indices; precompute every level's solver for the rest."""
+        self.frozen = frozenset(indices)
+        for level in self.levels:
+            level.solver(self.active(level.index))
+
+    def active(self, level: int) -> np.ndarray:
+        """Free parameters at a pyramid level.
+
+        The coarsest of several levels estimates the similarity and lighting only (a few
+        hundred pixels cannot pin down local bending, and free modes there absorb
+        misalignment on weakly textured dolls); intermediate levels add the lowest modes.
+        """
+        lay = self.layout
+        coarsest = level == len(self.levels) - 1 and level > 0
+        keep_modes = 0 if coarsest else lay.n_modes >> level
+        out = [k for k in range(lay.size) if k not in self.frozen]
+        return np.array(
+            [k for k in out if not (lay.modes.start + keep_modes <= k < lay.modes.stop)],
+            dtype=np.int64,
+        )
+
+    # ------------------------------------------------------------------ frames
+
+    def pyramid(self, frame: np.ndarray, poses, wide: bool):
+        """Blurred pyramid of the region around the blob at ``poses`` (all of it when wide).
+
+        Returns (LazyPyramid, origin (2,) float64) or None when the region is empty.
+        """
+        h, w = frame.shape[:2]
+        align = 2 ** (len(self.levels) - 1)
+        if wide:
+            x0 = y0 = 0
+            x1, y1 = w, h
+        else:
+            nodes = np.vstack([self.nodes(a) for a in poses])
+            lo, hi = nodes.min(axis=0), nodes.max(axis=0)
+            margin = max(0.15 * float((hi - lo).max()), 8.0 * align)
+            x0 = int(np.clip(np.floor((lo[0] - margin) / align) * align, 0, w))
+            y0 = int(np.clip(np.floor((lo[1] - margin) / align) * align, 0, h))
+            x1 = int(np.clip(np.ceil(hi[0] + margin) + 1, 0, w))
+            y1 = int(np.clip(np.ceil(hi[1] + margin) + 1, 0, h))
+            if x1 - x0 < 8 or y1 - y0 < 8:
+                return None
+        roi = blur(np.ascontiguousarray(frame[y0:y1, x0:x1]), self.blob.blur_sigma)
+        return LazyPyramid(roi), np.array([x0, y0], float)
+
+    # ------------------------------------------------------------------ fitting
+
+    def fit(self, frame, start, state, wide: bool, known_residual: float | None) -> Fit:
+        """Register from ``start``.
+
+        1. Unless searching wide, the finest level is tried first: when the prediction was
+           good that is all a frame needs.
+        2. Otherwise coarse to fine from ``start`` and from ``state`` (the last pose: the
+           motion may have reversed), keeping the better.
+        3. If that still fits much worse than ``known_residual`` (or the search is wide), a
+           grid search over translations at the coarsest level seeds one more descent.
+        """
+        fail = Fit(start, 0.0, 0)
+        if not np.isfinite(start).all():
+            return fail
+        seeds = [start]
+        if not wide and not np.allclose(state, start):
+            seeds.append(state)
+        pyr = self.pyramid(frame, seeds, wide)
+        if pyr is None:
+            return fail
+        images, origin = pyr
+        limit = 3.0 * known_residual if known_residual is not None and not wide else 0.0
+        its = 0
+        best = None
+        if not wide and len(self.levels) > 1:
+            res = self._level_fit(self.levels[0], images, origin, start, bail=limit)
+            its += res.iterations
+            if res.evaluation is not None:
+                best = res
+        if best is None:
+            for seed in seeds:
+                res = self._descend(images, origin, seed, wide)
+                its += res.iterations
+                best = _better(best, res)
+                if best.evaluation is not None and best.evaluation.residual <= limit:
+                    break
+            if best.evaluation is None or best.evaluation.residual > limit:
+                seed, n = self._coarse_search(images, origin, seeds)
+                res = self._descend(images, origin, seed, wide)
+                its += n + res.iterations
+                best = _better(best, res)
+        ev = best.evaluation
+        if ev is None or not self._plausible(best.params):
+            return Fit(start, 0.0, its)
+        conf = confidence(self.levels[0].level, ev)
+        return Fit(best.params, conf, its, ev.residual, ev.occluded)
+
+    def _level_fit(self, step: DifferenceDecomposition, images, origin, a, cap=None, bail=None):
+        return step.fit(
+            images[step.index], a, origin, self.active(step.index), self.stopping, cap, bail
+        )
+
+    def _descend(self, images, origin, start, wide: bool) -> LevelFit:
+        """Coarse to fine from ``start``; the finest level's fit."""
+        a, its = start.copy(), 0
+        for step in reversed(self.levels):
+            cap = self.options.max_iterations * (3 if wide and step.index else 1)
+            res = self._level_fit(step, images, origin, a, cap=cap)
+            its += res.iterations
+            if res.evaluation is None:
+                return LevelFit(start, None, its)
+            a = res.params
+        return LevelFit(res.params, res.evaluation, its)
+
+    def _coarse_search(self, images, origin, seeds):
+        """The best start among seed poses shifted on a grid, by robust residual.
+
+        Evaluated at the coarsest level only (a few hundred pixels), this widens the capture
+        range of the pyramid to about :data:`SEARCH_RADIUS` coarse pixels around each seed,
+        enough for a reversal of 15 px/frame motion on smooth, photo-like textures.
+
+        Returns (params, evaluations).
+        """
+        top = self.levels[-1]
+        top.solver(self.active(top.index))  # may build a basis (which binds the template)
+        org, box = top.bind(images[top.index], origin)
+        scale = top.level.scale
+        offsets = np.arange(-SEARCH_RADIUS, SEARCH_RADIUS + 1, SEARCH_STEP) / scale
+        best, best_res, its = seeds[0], np.inf, 0
+        for seed in seeds:
+            for dy in offsets:
+                for dx in offsets:
+                    a = seed.copy()
+                    a[0] += dx
+                    a[1] += dy
+                    ev: Evaluation | None = top.evaluate(a, org, box)
+                    its += 1
+                    if ev is None or np.count_nonzero(ev.use) < 0.5 * len(top.level):
+                        continue
+                    if ev.residual < best_res:
+                        best, best_res = a, ev.residual
+        return best.copy(), its
+
+    def _plausible(self, a: np.ndarray) -> bool:
+        if not np.isfinite(a).all():
+            return False
+        if not -3.0 < a[3] < 3.0:  # scale within 0.05x .. 20x
+            return False
+        amp = a[self.layout.modes]
+        return bool(np.all(np.abs(amp) < 0.6 * self.blob.length))
+
+
+def _better(a: LevelFit | None, b: LevelFit) -> LevelFit:
+    """The fit with the lower finest-level residual (one that found nothing loses)."""
+    if a is None or a.evaluation is None:
+        return b
+    if b.evaluation is None:
+        return a
+    return b if b.evaluation.residual < a.evaluation.residual else a

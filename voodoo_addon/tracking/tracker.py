@@ -1,0 +1,291 @@
+"""The active-blob tracker: one blob followed from frame to frame (paper §5).
+
+``Tracker(blob).track(frame)`` returns a :class:`TrackResult`. The tracker owns what links
+frames together -- the prediction of the next pose, the decision that the blob is lost, and
+finding it again -- and leaves the registration of one frame to
+:class:`~voodoo_addon.tracking.fitter.CoarseToFineFitter`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..blob import ActiveBlob
+from ..errors import VoodooError
+from .fitter import CoarseToFineFitter, Fit
+from .norms import LorentzianNorm, RobustNorm
+from .params import ParamLayout
+from .proposals import FeatureMatcher
+from .warp import CpuWarp, WarpBackend
+
+
+@dataclass(frozen=True)
+class TrackerOptions:
+    """Tracker settings; the defaults work without tuning.
+
+    Attributes
+    ----------
+    sigma : float
+        Scale of the Lorentzian norm (Eq. 9), image units.
+    gamma : float
+        Weight of the modal-stiffness prior (Eq. 10) against the mean robust error.
+    photometric : {"channel", "global", "none"}
+        Brightness/contrast model (Eq. 4). Per channel by default: webcams re-balance white
+        and lamps are coloured, so the three channels drift independently.
+    max_levels : int
+        Pyramid levels at most (coarse to fine).
+    min_level_pixels : int
+        A coarser level is only used while its blob keeps this many pixels.
+    max_iterations : int
+        Iteration cap per level and frame.
+    tolerance : float
+        Stop when the robust residual improves by less than this fraction.
+    step_tolerance : float
+        ... or when an update moves the nodes by less than this many pixels RMS (finest
+        level; coarser levels stop at a quarter of their pixel).
+    fine_capture : float
+        A frame starts at the finest level and drops to the coarse levels only when the
+        first update there moves the nodes by more than this many pixels RMS.
+    pixel_budget : int or None
+        Template pixels used at full resolution at most (an even subsample beyond).
+    block_grid : int
+        Blocks per side for occlusion rejection.
+    outlier_factor : float
+        A block whose mean robust error exceeds this many times the median block's is
+        treated as occluded for the iteration.
+    lost_below : float
+        A frame whose confidence falls below this is lost.
+    reacquire_above : float
+        While lost, a frame must reach this confidence to count as found again.
+    predict : bool
+        Extrapolate the motion of the last two frames to start each frame.
+    features : bool
+        Re-acquire a lost blob by matching SIFT features against the template.
+    """
+
+    sigma: float = 0.15
+    gamma: float = 1e-5
+    photometric: str = "channel"
+    max_levels: int = 3
+    min_level_pixels: int = 300
+    max_iterations: int = 8
+    tolerance: float = 1e-2
+    step_tolerance: float = 0.06
+    fine_capture: float = 1.0
+    pixel_budget: int | None = 20000
+    block_grid: int = 6
+    outlier_factor: float = 4.0
+    lost_below: float = 0.35
+    reacquire_above: float = 0.5
+    predict: bool = True
+    features: bool = True
+
+
+@dataclass(frozen=True)
+class TrackResult:
+    """One frame's registration.
+
+    Attributes
+    ----------
+    params : (P,) float64
+        Parameter vector (see :mod:`voodoo_addon.tracking.params`); the last good one when lost.
+    nodes : (m, 2) float64
+        Mesh nodes in the frame, pixel coordinates.
+    confidence : float
+        In [0, 1]: template/frame correlation times the visible fraction.
+    lost : bool
+        True when the blob was not found in this frame (``params`` are then held).
+    iterations : int
+        Warps evaluated for this frame over all levels.
+    residual : float
+        Mean robust error per template pixel at the finest level.
+    occluded : float
+        Fraction of template pixels rejected as occluded or off the frame.
+    reacquired : bool
+        True on the first good frame after a loss.
+    """
+
+    params: np.ndarray
+    nodes: np.ndarray
+    confidence: float
+    lost: bool
+    iterations: int
+    residual: float
+    occluded: float
+    reacquired: bool = False
+    warnings: tuple = field(default=(), compare=False)
+
+
+class Tracker:
+    """Tracks one active blob through frames.
+
+    Parameters
+    ----------
+    blob : ActiveBlob
+    backend : WarpBackend, optional
+        Defaults to :class:`~voodoo_addon.tracking.warp.CpuWarp`.
+    options : TrackerOptions, optional
+    norm : RobustNorm, optional
+        Defaults to the Lorentzian of ``options.sigma``.
+    frozen : iterable of str
+        Parameter names held fixed (e.g. ``{"rotate"}`` to track bending with rotation fixed).
+    """
+
+    def __init__(
+        self,
+        blob: ActiveBlob,
+        backend: WarpBackend | None = None,
+        options: TrackerOptions | None = None,
+        norm: RobustNorm | None = None,
+        frozen=(),
+    ):
+        self.blob = blob
+        self.options = opt = options or TrackerOptions()
+        self.backend = backend or CpuWarp()
+        self.norm = norm or LorentzianNorm(opt.sigma)
+        self.layout = ParamLayout(tuple(str(s) for s in blob.labels), opt.photometric)
+        self.fitter = CoarseToFineFitter(blob, self.layout, self.backend, self.norm, opt)
+        self.frame_size = tuple(int(v) for v in blob.frame_size)
+        self._matcher = FeatureMatcher(blob) if opt.features else None
+        self.set_frozen(frozen)
+        self.reset()
+
+    # ------------------------------------------------------------------ state
+
+    @property
+    def parameter_names(self) -> tuple:
+        return self.layout.names
+
+    @property
+    def levels(self):
+        """The blob's pyramid levels (finest first)."""
+        return [step.level for step in self.fitter.levels]
+
+    def set_frozen(self, names) -> None:
+        """Hold the named parameters at their current values from now on."""
+        idx = set()
+        for name in names:
+            try:
+                idx.add(self.layout.index(name))
+            except KeyError as exc:
+                raise VoodooError(str(exc.args[0])) from None
+        self.frozen = frozenset(idx)
+        self.fitter.set_frozen(idx)  # precompute the bases now, not on the first frame
+
+    def reset(self, params: np.ndarray | None = None) -> None:
+        """Start over from ``params`` (default: the capture pose)."""
+        a = self.layout.identity() if params is None else np.asarray(params, dtype=np.float64)
+        if a.shape != (self.layout.size,) or not np.isfinite(a).all():
+            raise VoodooError("reset() needs a finite parameter vector of the tracker's size.")
+        self.state = a.copy()
+        self._prev = None
+        self.last_good = a.copy()
+        self.lost = False
+        self._last_residual = None
+
+    def nodes(self, a: np.ndarray) -> np.ndarray:
+        """Mesh nodes (m, 2) in frame pixels for parameters ``a``."""
+        return self.fitter.nodes(a)
+
+    # ------------------------------------------------------------------ public
+
+    def track(self, frame: np.ndarray) -> TrackResult:
+        """Register the blob to one frame.
+
+        Parameters
+        ----------
+        frame : (H, W, 3) float32
+            RGB in [0, 1], the capture frame's size.
+
+        Returns
+        -------
+        TrackResult
+        """
+        frame = self._check_frame(frame)
+        opt = self.options
+        was_lost = self.lost
+        start = self.last_good if was_lost else self._predict()
+        need = opt.reacquire_above if was_lost else opt.lost_below
+        fit = self._fit(frame, start, wide=was_lost)
+        its = fit.iterations
+        warnings = []
+        # Before giving up: a wide search from the last good pose, then from features.
+        for fallback in (self._wide_start, self._feature_start):
+            if fit.confidence >= need:
+                break
+            start2 = fallback(frame, was_lost)
+            if start2 is None:
+                continue
+            fit2 = self._fit(frame, start2, wide=True)
+            its += fit2.iterations
+            if fit2.confidence > fit.confidence:
+                fit = fit2
+        if fit.confidence >= need:
+            a = fit.params
+            self._last_residual = fit.residual
+            self._prev = None if was_lost else self.state.copy()
+            self.state = a
+            self.last_good = a.copy()
+            self.lost = False
+            params = a
+        else:
+            self.lost = True
+            self.state = self.last_good.copy()
+            self._prev = None
+            params = self.last_good.copy()
+            warnings.append("The blob is lost: holding its last good pose.")
+        return TrackResult(
+            params=params.copy(),
+            nodes=self.nodes(params),
+            confidence=float(fit.confidence),
+            lost=self.lost,
+            iterations=int(its),
+            residual=float(fit.residual),
+            occluded=float(fit.occluded),
+            reacquired=bool(was_lost and not self.lost),
+            warnings=tuple(warnings),
+        )
+
+    # ------------------------------------------------------------------ internals
+
+    def _fit(self, frame, start, wide: bool) -> Fit:
+        return self.fitter.fit(frame, start, self.state, wide, self._last_residual)
+
+    def _wide_start(self, frame, was_lost):
+        """The last good pose (already searched wide when the blob was lost)."""
+        return None if was_lost else self.last_good
+
+    def _feature_start(self, frame, was_lost):
+        """A pose from SIFT matches against the template, frozen parameters kept."""
+        if self._matcher is None:
+            return None
+        guess = self._matcher.guess(frame, self.blob.centre, self.last_good)
+        if guess is not None:
+            frozen = list(self.frozen)
+            guess[frozen] = self.last_good[frozen]
+        return guess
+
+    def _check_frame(self, frame: np.ndarray) -> np.ndarray:
+        frame = np.asarray(frame)
+        if frame.ndim != 3 or frame.shape[2] != 3:
+            raise VoodooError(f"A frame must be an RGB picture; got shape {frame.shape}.")
+        if frame.dtype != np.float32:
+            raise VoodooError("Frames must be float32 RGB in [0, 1] (see images.to_float_rgb).")
+        h, w = frame.shape[:2]
+        if (w, h) != self.frame_size:
+            raise VoodooError(
+                f"This frame is {w}x{h} but the blob was built on a {self.frame_size[0]}x"
+                f"{self.frame_size[1]} frame; use the same camera mode or clip."
+            )
+        return frame
+
+    def _predict(self) -> np.ndarray:
+        a = self.state.copy()
+        if self.options.predict and self._prev is not None:
+            lay = self.layout
+            vel = self.state - self._prev
+            a[:4] += vel[:4]
+            a[lay.modes] += vel[lay.modes]
+        return a
