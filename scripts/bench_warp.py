@@ -35,8 +35,8 @@ def main() -> None:
     import importlib
 
     engine = importlib.import_module(f"{module}.voodoo_addon")
-    bench = importlib.import_module(f"{module}.voodoo_addon.bench")
-    synthetic = importlib.import_module(f"{module}.voodoo_addon.synthetic")
+    bench = importlib.import_module(f"{module}.voodoo_addon.devtools.bench")
+    synthetic = importlib.import_module(f"{module}.voodoo_addon.devtools.synthetic")
     gpu_warp = importlib.import_module(f"{module}.operators.gpu_warp")
     if not gpu_warp.ensure_gpu():
         raise SystemExit("no GPU context")

@@ -101,7 +101,7 @@ def cmd_segment(args) -> int:
 
 
 def cmd_bench(args) -> int:
-    from .bench import run_bench
+    from .devtools.bench import run_bench
 
     report = run_bench(quick=args.quick, progress=not args.json)
     if args.json:
@@ -111,7 +111,7 @@ def cmd_bench(args) -> int:
 
 def cmd_synth(args) -> int:
     from .contour import save_contour_json
-    from .synthetic import write_scenario
+    from .devtools.synthetic import write_scenario
 
     contour = write_scenario(args.scenario, args.out, frames=args.frames, size=tuple(args.size))
     if args.contour:

@@ -64,7 +64,7 @@ def sub(addon):
 def clip_file():
     """A short lossless synthetic take (bending, turning doll) and its outline on frame 0."""
     sys.path.insert(0, str(ROOT))
-    from voodoo_addon.synthetic import scenario_take, write_frames
+    from voodoo_addon.devtools.synthetic import scenario_take, write_frames
 
     frames, contour, truth = scenario_take("mixed", frames=20, size=(320, 240))
     path = _scratch / "mixed.avi"

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from voodoo_addon.blob import BlobOptions, build_blob
-from voodoo_addon.synthetic import Pose, foam_scene
+from voodoo_addon.devtools.synthetic import Pose, foam_scene
 
 #: The repository root (holds the extension's __init__.py and voodoo_addon/).
 REPO_ROOT = Path(__file__).resolve().parents[2]

@@ -15,8 +15,8 @@ import pytest
 
 from voodoo_addon.blob import load_blob
 from voodoo_addon.contour import save_contour_json
+from voodoo_addon.devtools.synthetic import scenario_take, write_frames
 from voodoo_addon.images import write_image
-from voodoo_addon.synthetic import scenario_take, write_frames
 from voodoo_addon.tracking.params import SIMILARITY
 
 N_FRAMES = 36  # more than 30: the progress bar is shown unless --quiet
@@ -252,7 +252,7 @@ def test_track_unknown_frozen_parameter_exits_2(repo_root, files, tmp_path):
 
 
 def test_segment_writes_a_contour(repo_root, tmp_path):
-    from voodoo_addon.synthetic import Pose, foam_scene
+    from voodoo_addon.devtools.synthetic import Pose, foam_scene
 
     scene, _ = foam_scene(320, 240, 8000)
     frame = tmp_path / "f.png"

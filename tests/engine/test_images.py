@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from voodoo_addon.devtools.synthetic import painted_foam, write_frames
 from voodoo_addon.errors import VoodooError
 from voodoo_addon.images import read_image, to_float_rgb, to_uint8_bgr, write_image
-from voodoo_addon.synthetic import painted_foam, write_frames
 
 
 def test_uint8_and_uint16_scale_to_unit_range():

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from voodoo_addon.contour import validate_contour
+from voodoo_addon.devtools.synthetic import ellipse_contour
 from voodoo_addon.errors import VoodooError
 from voodoo_addon.interpolants import GaussianInterpolant
 from voodoo_addon.mesh import triangulate
-from voodoo_addon.synthetic import ellipse_contour
 
 
 def _mesh_nodes():

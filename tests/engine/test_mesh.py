@@ -8,6 +8,7 @@ import pytest
 
 from voodoo_addon.blob import build_blob
 from voodoo_addon.contour import signed_area, validate_contour
+from voodoo_addon.devtools.synthetic import Pose, ellipse_contour, foam_scene
 from voodoo_addon.errors import VoodooError
 from voodoo_addon.mesh import (
     barycentric,
@@ -16,7 +17,6 @@ from voodoo_addon.mesh import (
     triangle_areas,
     triangulate,
 )
-from voodoo_addon.synthetic import Pose, ellipse_contour, foam_scene
 
 
 def _star(points: int, outer: float, inner: float, centre=(160.0, 120.0)) -> np.ndarray:

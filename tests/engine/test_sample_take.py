@@ -4,7 +4,7 @@ H.264-compressed), against the true positions of the slab exported with it."""
 import numpy as np
 import pytest
 
-from voodoo_addon.bench import SAMPLES, lattice_truth, run_sample_take
+from voodoo_addon.devtools.bench import SAMPLES, lattice_truth, run_sample_take
 
 
 def test_lattice_truth_is_exact_on_its_own_points():

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from voodoo_addon.contour import signed_area, validate_contour
+from voodoo_addon.devtools.synthetic import Pose, foam_scene
 from voodoo_addon.errors import VoodooError
 from voodoo_addon.segment import mask_contour, segment_contour, segment_mask
-from voodoo_addon.synthetic import Pose, foam_scene
 
 
 @pytest.fixture(scope="module", params=[(320, 240, 8000, 0), (400, 300, 14000, 3)])

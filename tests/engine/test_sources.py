@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from voodoo_addon.devtools.synthetic import painted_foam, write_frames
 from voodoo_addon.errors import VoodooError
 from voodoo_addon.images import write_image
 from voodoo_addon.sources import ArraySource, CaptureSource, ImageFolderSource, open_source
-from voodoo_addon.synthetic import painted_foam, write_frames
 
 N_FRAMES, W, H = 7, 64, 48
 

@@ -1,4 +1,4 @@
-"""The tracker against ground truth: synthetic takes with known motion (voodoo_addon.synthetic).
+"""The tracker against ground truth: synthetic takes with known motion (devtools.synthetic).
 
 Error measure: the mean over frames and nodes of |tracked node - true position of that node|,
 where the true position is the scene's forward map of the blob's rest-pose vertices.
@@ -12,8 +12,8 @@ import pytest
 import skimage.data
 
 from voodoo_addon.blob import build_blob
+from voodoo_addon.devtools.synthetic import Pose, foam_scene, scenario_poses, scenario_take
 from voodoo_addon.errors import VoodooError
-from voodoo_addon.synthetic import Pose, foam_scene, scenario_poses, scenario_take
 from voodoo_addon.tracking import Tracker, TrackerOptions, TrackResult
 
 FRAMES = 24

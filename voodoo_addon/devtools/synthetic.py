@@ -14,8 +14,8 @@ from dataclasses import dataclass, field
 import cv2
 import numpy as np
 
-from .labels import FIELDS
-from .tracking.params import rotation
+from ..labels import FIELDS
+from ..tracking.params import rotation
 
 
 def painted_foam(height: int, width: int, seed: int = 0, cell: int = 18) -> np.ndarray:
@@ -336,7 +336,7 @@ def write_frames(path, frames, fps: float = 30.0) -> None:
     """
     from pathlib import Path
 
-    from .images import to_uint8_bgr, write_image
+    from ..images import to_uint8_bgr, write_image
 
     path = Path(path)
     if not path.suffix:
@@ -348,7 +348,7 @@ def write_frames(path, frames, fps: float = 30.0) -> None:
     fourcc = cv2.VideoWriter_fourcc(*("FFV1" if path.suffix.lower() == ".avi" else "mp4v"))
     writer = cv2.VideoWriter(str(path), fourcc, fps, (w, h))
     if not writer.isOpened():
-        from .errors import VoodooError
+        from ..errors import VoodooError
 
         raise VoodooError(f"Cannot write the video {path}.")
     for f in frames:

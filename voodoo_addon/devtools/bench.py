@@ -19,9 +19,9 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from .blob import BlobOptions, build_blob
+from ..blob import BlobOptions, build_blob
+from ..tracking import Tracker
 from .synthetic import Pose, foam_scene
-from .tracking import Tracker
 
 THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMEXPR_NUM_THREADS")
 
@@ -93,7 +93,7 @@ def _klt(frames, start_nodes):
 
 #: The bundled sample take: rendered by Blender (scripts/make_sample.py), H.264-compressed, with
 #: the true positions of a lattice of slab points in every frame.
-SAMPLES = Path(__file__).resolve().parents[1] / "samples"
+SAMPLES = Path(__file__).resolve().parents[2] / "samples"
 
 
 def lattice_truth(path):
@@ -125,8 +125,8 @@ def lattice_truth(path):
 
 def run_sample_take() -> dict | None:
     """Track the bundled sample take against its ground truth (None when it is absent)."""
-    from .contour import load_contour_json
-    from .sources import open_source
+    from ..contour import load_contour_json
+    from ..sources import open_source
 
     clip, outline, truth_file = (
         SAMPLES / "sample_take.mp4",
