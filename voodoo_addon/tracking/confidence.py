@@ -1,40 +1,108 @@
-"""How well a registration fits: the per-frame confidence."""
+"""How well a registration fits: the per-frame quality.
+
+The quality is a *local* correlation: template and warped frame are correlated triangle by
+triangle and channel by channel (each with its own mean and contrast, so shading that varies
+across the surface does not count), and the correlations are averaged with the template's
+texture as weight (a flat triangle says nothing about alignment). A mesh that sits a few
+pixels off its texture decorrelates every textured triangle, whatever the lighting; a mesh
+in the right place keeps them high even when part of the blob is covered, as long as enough
+of it is seen.
+"""
 
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 
 from .decomposition import Evaluation
 from .level import Level
 
-#: Pixels the confidence's correlation is computed on (an even subsample).
-CONFIDENCE_SAMPLES = 2000
+#: Pixels the quality is computed on (an even subsample of the level's).
+QUALITY_SAMPLES = 3000
+#: A triangle-channel needs this many pixels for its correlation to count.
+MIN_PIXELS = 6
+#: Below this fraction of the textured blob seen, the quality falls in proportion.
+FULL_VIEW = 0.5
 
-def confidence(level: Level, ev: Evaluation) -> float:
-    """Correlation of template and frame over the visible pixels, times visibility.
 
-    Per-channel normalised cross-correlation (so insensitive to the lighting model),
-    averaged with the template's channel variances as weights, on an even subsample.
+@dataclass(frozen=True)
+class Quality:
+    """One frame's quality.
+
+    Attributes
+    ----------
+    value : float
+        In [0, 1]: texture-weighted mean local correlation of the seen triangles, times the
+        view factor.
+    correlation : float
+        The mean local correlation alone, in [-1, 1].
+    seen : float
+        Fraction of the textured blob compared (on the picture, not hidden, not occluded).
+    triangles : (t,) float64
+        Each triangle's correlation (NaN where not compared).
     """
-    step = max(1, len(ev.valid) // CONFIDENCE_SAMPLES)
-    t = level.template[::step]
-    s = ev.samples[::step]
-    if ev.valid is level.all_valid:
-        visible = 1.0
-    else:
-        visible = float(np.count_nonzero(ev.valid)) / len(ev.valid)
-        v = ev.valid[::step]
-        if np.count_nonzero(v) < 10:
-            return 0.0
-        t, s = t[v], s[v]
-    k = len(t)
-    st, ss = t.sum(axis=0), s.sum(axis=0)
-    var_t = np.einsum("ij,ij->j", t, t) - st * st / k
-    var_s = np.einsum("ij,ij->j", s, s) - ss * ss / k
-    cov = np.einsum("ij,ij->j", t, s) - st * ss / k
-    den = np.sqrt(np.maximum(var_t * var_s, 0.0))
-    ok = den > 1e-9
-    if not ok.any():
-        return 0.0
-    ncc = float((cov[ok] / den[ok] * var_t[ok]).sum() / var_t[ok].sum())
-    return float(np.clip(ncc, 0.0, 1.0) * min(1.0, visible / 0.75))
+
+    value: float
+    correlation: float
+    seen: float
+    triangles: np.ndarray
+
+
+class QualityMeter:
+    """Measures :class:`Quality` on the evaluations of one level.
+
+    Parameters
+    ----------
+    level : Level
+        Usually the finest.
+    """
+
+    def __init__(self, level: Level):
+        n = len(level)
+        self.step = max(1, n // QUALITY_SAMPLES)
+        self.n_tri = level.n_triangles
+        tri = level.triangle[:: self.step]
+        t = level.template[:: self.step].astype(np.float64)  # (n', 3)
+        self.channels = t.shape[1]
+        self.key = (tri[:, None] * self.channels + np.arange(self.channels)).ravel()
+        self.t = t.ravel()
+        self.size = self.n_tri * self.channels
+        count, _, var = self._stats(np.ones_like(self.t), self.t)
+        ok = count >= MIN_PIXELS
+        # Texture weight of each triangle-channel: its pixels times its contrast, the
+        # contrast capped at the median so that a few high-contrast spots do not rule.
+        cap = float(np.median(var[ok])) if ok.any() else 0.0
+        self.weight = np.where(ok, count * np.minimum(var, cap), 0.0)
+        self.total = float(self.weight.sum())
+
+    def _stats(self, w, x):
+        count = np.bincount(self.key, weights=w, minlength=self.size)
+        s = np.bincount(self.key, weights=w * x, minlength=self.size)
+        ss = np.bincount(self.key, weights=w * x * x, minlength=self.size)
+        mean = s / np.maximum(count, 1.0)
+        return count, mean, np.maximum(ss / np.maximum(count, 1.0) - mean * mean, 0.0)
+
+    def __call__(self, ev: Evaluation) -> Quality:
+        use = np.repeat(ev.use[:: self.step].astype(np.float64), self.channels)
+        s = ev.samples[:: self.step].astype(np.float64).ravel()
+        t = self.t
+        count, mt, vt = self._stats(use, t)
+        _, ms, vs = self._stats(use, s)
+        cross = np.bincount(self.key, weights=use * t * s, minlength=self.size)
+        cov = cross / np.maximum(count, 1.0) - mt * ms
+        den = np.sqrt(vt * vs)
+        ok = (count >= MIN_PIXELS) & (den > 1e-9) & (self.weight > 0)
+        ncc = np.full(self.size, np.nan)
+        ncc[ok] = np.clip(cov[ok] / den[ok], -1.0, 1.0)
+        w = np.where(ok, self.weight, 0.0)
+        seen = float(w.sum()) / self.total if self.total > 0 else 0.0
+        if not ok.any() or self.total <= 0:
+            return Quality(0.0, 0.0, seen, np.full(self.n_tri, np.nan))
+        corr = float((w[ok] * ncc[ok]).sum() / w[ok].sum())
+        value = max(corr, 0.0) * min(1.0, seen / FULL_VIEW)
+        per_tri = ncc.reshape(self.n_tri, self.channels)
+        has = ~np.isnan(per_tri)
+        n_has = has.sum(axis=1)
+        tri = np.where(n_has > 0, np.nansum(per_tri, axis=1) / np.maximum(n_has, 1), np.nan)
+        return Quality(float(value), corr, seen, tri)

@@ -4,7 +4,7 @@
 parameters left free, it iterates *warp the picture back onto the template, compare, solve
 for the update* until the robust error stops improving, and returns a :class:`LevelFit`.
 Everything that depends only on the template -- the basis of difference images, its
-Eq. 16 transform and regularised pseudo-inverse, per-block Gram matrices -- is computed once
+Eq. 16 transform and regularised pseudo-inverse, per-triangle Gram matrices -- is computed once
 per set of free parameters (:class:`Solver`); an iteration is one warp, one elementwise
 transform and one small matrix-vector product.
 """
@@ -15,12 +15,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .evaluation import Evaluation, evaluate
+from .folding import HIDE_AREA, FoldGuard
 from .level import Level
 from .norms import RobustNorm
 from .params import ParamLayout, compose
 from .warp import WarpBackend
 
-_ONES3 = np.ones(3, dtype=np.float32)
 #: An update that changes a lighting term by more than this is not converged.
 PHOTOMETRIC_TOLERANCE = 2e-3
 
@@ -40,21 +41,24 @@ class Solver:
     jacobian : (3n, p) float32
         Difference basis collapsed per parameter (least-squares slope over the four steps),
         for the weighted solve used when parts of the blob are occluded or off the frame.
-    block_gram : (n_blocks, p, p) float64
-        ``J_b^T J_b`` of every pixel block.
+    triangle_gram : (t, p, p) float64
+        ``J_k^T J_k`` of the pixels of every triangle.
     penalty : (p, p) float64
         ``gamma' Psi^2 + ridge`` for the weighted solve.
     reg : (p,) float64
         ``gamma' psi_j^2`` (zero for unregularised parameters).
+    modal : (p,) bool
+        Which active parameters are elastic modes.
     """
 
     active: np.ndarray
     update: np.ndarray
     prior: np.ndarray
     jacobian: np.ndarray
-    block_gram: np.ndarray
+    triangle_gram: np.ndarray
     penalty: np.ndarray
     reg: np.ndarray
+    modal: np.ndarray
 
 
 def build_solver(
@@ -90,51 +94,46 @@ def build_solver(
         if lay.modes.start <= k < lay.modes.stop:
             psi2[j] = penalties[k - lay.modes.start]
     gam = gamma * rows
-    gram = bbar.T @ bbar
-    ridge = 1e-6 * np.trace(gram) / len(gram)
-    lhs = gram + gam * nmat.T @ (psi2[:, None] * nmat) + ridge * np.eye(len(gram))
-    inv_lhs = np.linalg.inv(lhs)
-    update = nmat @ inv_lhs @ bbar.T
-    prior = nmat @ inv_lhs @ (gam * nmat.T * psi2[None, :])
     # Collapsed basis (least-squares slope over the steps) for the weighted solve.
     denom = (nmat**2).sum(axis=1)  # (p,)
     jac = bbar @ nmat.T / denom
-    pix_block = np.repeat(level.block, 3)
-    block_gram = np.zeros((level.n_blocks, len(active), len(active)))
-    for blk in range(level.n_blocks):
-        jb = jac[pix_block == blk]
-        block_gram[blk] = jb.T @ jb
-    jgram = block_gram.sum(axis=0)
-    penalty = np.diag(gam * psi2) + 1e-6 * np.trace(jgram) / len(jgram) * np.eye(len(active))
+    # J_k^T J_k per triangle: the outer products of the rows, summed per triangle.
+    rows_tri = np.repeat(level.triangle, 3)
+    order = np.argsort(rows_tri, kind="stable")
+    bounds = np.searchsorted(rows_tri[order], np.arange(level.n_triangles + 1))
+    jsorted = jac[order]
+    tri_gram = np.zeros((level.n_triangles, len(active), len(active)))
+    for k in range(level.n_triangles):
+        jk = jsorted[bounds[k] : bounds[k + 1]]
+        if len(jk):
+            tri_gram[k] = jk.T @ jk
+    jgram = tri_gram.sum(axis=0)
+    scale = np.trace(jgram) / len(jgram)
+    # With lighting patches, a change of all three channels' brightness (or contrast) at
+    # once is a patch's grey bias (gain): invisible after the projection. Pin those sums.
+    gauge = np.zeros((len(active), len(active)))
+    if level.patches is not None:
+        for group in (lay.brightness, lay.contrast):
+            sel = np.isin(active, np.arange(lay.size)[group]).astype(float)
+            gauge += np.outer(sel, sel)
+    gauge *= 10.0 * scale
+    gram = bbar.T @ bbar
+    ridge = 1e-6 * np.trace(gram) / len(gram)
+    lhs = gram + nmat.T @ (gam * np.diag(psi2) + gauge) @ nmat + ridge * np.eye(len(gram))
+    inv_lhs = np.linalg.inv(lhs)
+    update = nmat @ inv_lhs @ bbar.T
+    prior = nmat @ inv_lhs @ (gam * nmat.T * psi2[None, :])
+    penalty = np.diag(gam * psi2) + gauge + 1e-6 * scale * np.eye(len(active))
     return Solver(
         active=active,
         update=np.ascontiguousarray(update, dtype=np.float32),
         prior=prior,
         jacobian=np.ascontiguousarray(jac, dtype=np.float32),
-        block_gram=block_gram,
+        triangle_gram=tri_gram,
         penalty=penalty,
         reg=gam * psi2,
+        modal=(active >= lay.modes.start) & (active < lay.modes.stop),
     )
-
-
-@dataclass
-class Evaluation:
-    """One evaluation of the warp at one level."""
-
-    samples: np.ndarray  # (n, 3) float32
-    dbar: np.ndarray  # (n, 3) float32 robust differences
-    valid: np.ndarray  # (n,) bool: inside the picture
-    use: np.ndarray  # (n,) bool: taken into the solve (valid, not occluded)
-    block_weight: np.ndarray  # (n_blocks,) 0/1
-    residual: float
-    weighted: bool
-
-    @property
-    def occluded(self) -> float:
-        """Fraction of the level's pixels left out of the solve."""
-        if not self.weighted:
-            return 0.0
-        return 1.0 - float(np.count_nonzero(self.use)) / len(self.use)
 
 
 @dataclass(frozen=True)
@@ -196,12 +195,14 @@ class DifferenceDecomposition:
     penalties : (k,) float64
         ``psi_j^2`` of each mode.
     outlier_factor : float
-        A block whose mean robust error exceeds this many times the median block's is
+        A triangle whose mean robust error exceeds this many times the median triangle's is
         left out of the solve (full resolution only).
     floor : float
-        Robust error below which a block is never an outlier.
+        Robust error below which a triangle is never an outlier.
     node_positions : callable
         ``a -> (m, 2)`` nodes in level-0 pixels (to measure the step).
+    guard : FoldGuard, optional
+        Cuts every update so that no triangle folds (see :mod:`.folding`).
     """
 
     def __init__(
@@ -215,8 +216,10 @@ class DifferenceDecomposition:
         outlier_factor: float,
         floor: float,
         node_positions,
+        guard: FoldGuard | None = None,
     ):
         self.level = level
+        self.guard = guard
         self.layout = layout
         self.backend = backend
         self.norm = norm
@@ -252,6 +255,13 @@ class DifferenceDecomposition:
         box = np.array([image.shape[1] - 1, image.shape[0] - 1], dtype=np.float32)
         return org, box
 
+    def hidden(self, a: np.ndarray) -> np.ndarray | None:
+        """Triangles compressed below :data:`~.folding.HIDE_AREA` at ``a`` (None: none)."""
+        if self.guard is None or not self.layout.n_modes:
+            return None
+        hid = self.guard.ratios(a[self.layout.modes]) < HIDE_AREA
+        return hid if hid.any() else None
+
     def evaluate(self, a, org, box, nodes=None) -> Evaluation | None:
         """Warp, sample and compare at ``a`` on the bound picture."""
         return evaluate(
@@ -265,9 +275,12 @@ class DifferenceDecomposition:
             self.outlier_factor,
             self.floor,
             nodes,
+            self.hidden(a),
         )
 
-    def fit(self, image, a, origin, active, stopping: Stopping, cap=None, bail=None) -> LevelFit:
+    def fit(
+        self, image, a, origin, active, stopping: Stopping, cap=None, bail=None, anchor=None
+    ) -> LevelFit:
         """Iterate difference decomposition from ``a`` on ``image``.
 
         Parameters
@@ -287,6 +300,9 @@ class DifferenceDecomposition:
             Give up (``bailed``) when the first update moves the nodes by more than
             ``stopping.fine_capture`` while the robust error is above ``bail``: the start
             is too far off for this level.
+        anchor : (P,) float64, optional
+            The modes that triangles no pixel sees are held at (default ``a``): the last
+            frame's shape, not an extrapolation of it.
         """
         solver = self.solver(active)  # may build a basis (which binds the template) first
         org, box = self.bind(image, origin)
@@ -294,6 +310,7 @@ class DifferenceDecomposition:
         tol = stopping.step_tolerance if level.index == 0 else 0.25 / level.scale
         act = solver.active
         best_a, best = a, None
+        anchor = (a if anchor is None else anchor)[solver.active]
         nodes_a = self._nodes(a)
         its = 0
         full = level.index == 0  # level nodes are frame nodes: reuse them
@@ -311,11 +328,14 @@ class DifferenceDecomposition:
                     break
             else:
                 best_a, best = a, ev
-            delta_act = solve(solver, level, ev, a[act])
+            delta_act = solve(solver, level, ev, a[act], anchor)
             if not np.isfinite(delta_act).all():
                 break
             delta = np.zeros_like(a)
             delta[act] = delta_act
+            if self.guard is not None:
+                modes = self.layout.modes
+                delta[modes] *= self.guard.max_step(a[modes], delta[modes])
             new = compose(a, delta, self.layout)
             nodes_new = self._nodes(new)
             step = float(np.sqrt(((nodes_new - nodes_a) ** 2).sum(axis=1).mean()))
@@ -330,122 +350,37 @@ class DifferenceDecomposition:
         return LevelFit(best_a, best, its)
 
 
-def evaluate(
-    level: Level,
-    a: np.ndarray,
-    origin: np.ndarray,
-    box: np.ndarray,
-    backend: WarpBackend,
-    norm: RobustNorm,
-    layout: ParamLayout,
-    outlier_factor: float,
-    floor: float,
-    nodes: np.ndarray | None = None,
-) -> Evaluation | None:
-    """Warp, sample and compare at ``a``: the robust difference image (Eq. 12, 16).
-
-    Parameters
-    ----------
-    level : Level
-    a : (P,) float64
-        Parameters.
-    origin : (2,) float32
-        Level pixel of the bound picture's top-left corner.
-    box : (2,) float32
-        Largest valid (x, y) in the bound picture.
-    backend, norm, layout
-        The tracker's warp backend, norm and parameter layout.
-    outlier_factor, floor : float
-        A block whose mean robust error exceeds ``outlier_factor * max(median, floor)`` is
-        occluded (full resolution only).
-    nodes : (m, 2) float64, optional
-        ``level.nodes(a)`` when the caller has them.
-
-    Returns
-    -------
-    Evaluation or None
-        None when too little of the blob is on the picture to compare.
-    """
-    n = len(level)
-    if nodes is None:
-        nodes = level.nodes(a)
-    pos = level.positions(a, nodes)
-    pos -= origin[:, None]
-    x, y = pos[0, :n], pos[1, :n]
-    if x.min() >= 0 and y.min() >= 0 and x.max() <= box[0] and y.max() <= box[1]:
-        valid, n_valid = None, n
-    else:
-        valid = (x >= 0) & (y >= 0) & (x <= box[0]) & (y <= box[1])
-        n_valid = int(np.count_nonzero(valid))
-        if n_valid < 0.15 * n:
-            return None
-    samples = backend.sample(level.geometry, nodes - origin, pos)
-    c, b = layout.channel_gain_offset(a)
-    inv_c = (1.0 / c).astype(np.float32)
-    # d = I0 - (S - b) / c, then Eq. 16: dbar = sign(d) sqrt(rho(d)).
-    d = np.multiply(samples, inv_c)
-    np.subtract(level.template, d, out=d)
-    d += (b / c).astype(np.float32)
-    rho = norm.rho(d)
-    dbar = np.sqrt(rho)
-    np.copysign(dbar, d, out=dbar)
-    loss = rho @ _ONES3  # per pixel, summed over channels (faster than .sum(axis=1))
-    valid_all = valid is None
-    if valid_all:
-        valid = level.all_valid
-    nb = level.n_blocks
-    if valid_all:
-        r_block = np.bincount(level.block, weights=loss, minlength=nb) / level.block_size
-        seen = np.ones(nb, dtype=bool)
-    else:
-        vcount = np.bincount(level.block, weights=valid, minlength=nb)
-        vsum = np.bincount(level.block, weights=loss * valid, minlength=nb)
-        seen = vcount >= 0.5 * level.block_size
-        r_block = np.where(seen, vsum / np.maximum(vcount, 1.0), 0.0)
-    weight = seen.astype(np.float64)
-    use = valid
-    # Occlusion rejection only at full resolution: on coarse levels a block that is merely
-    # misaligned looks occluded, and dropping it loses the texture that would align it.
-    if seen.any() and level.index == 0:
-        med = float(np.median(r_block[seen]))
-        limit = outlier_factor * max(med, floor)
-        out = seen & (r_block > limit)
-        if out.any() and out.sum() <= 0.5 * seen.sum():
-            weight[out] = 0.0
-            # Something covers part of the blob: also drop its stray pixels from the
-            # blocks that stay (their rows come out of the Gram matrix exactly).
-            use = valid & (weight[level.block] > 0) & (loss <= limit)
-    if use is valid and not weight.all():
-        use = valid & (weight[level.block] > 0)
-    weighted = use is not level.all_valid
-    if weighted:
-        n_use = int(np.count_nonzero(use))
-        if n_use == 0:
-            return None
-        residual = float(loss[use].mean())
-    else:
-        residual = float(loss.mean())
-    return Evaluation(samples, dbar, valid, use, weight, residual, weighted)
-
-
-def solve(solver: Solver, level: Level, ev: Evaluation, a_act: np.ndarray) -> np.ndarray:
+def solve(
+    solver: Solver, level: Level, ev: Evaluation, a_act: np.ndarray, anchor=None
+) -> np.ndarray:
     """Parameter update (active parameters) from one evaluation.
 
     Unweighted: the precomputed ``N B+`` of Eq. 14-15 with the Eq. 10 prior. Weighted
-    (occlusion, blob partly off the picture): the same least squares on the collapsed
-    basis restricted to the used pixels, with the Gram matrix assembled from per-block
-    Gram matrices minus the rows of the dropped pixels of kept blocks.
+    (occlusion, hidden triangles, blob partly off the picture): the same least squares on the
+    collapsed basis restricted to the used pixels, with the Gram matrix assembled from
+    per-triangle Gram matrices minus the rows of the dropped pixels of kept triangles.
+
+    A triangle that is not seen keeps its local shape: its Gram matrix, restricted to the
+    modes, stays in the system as a pull of the modes towards ``anchor`` (the start of
+    this level's fit), so a covered or off-picture part follows the similarity and the
+    seen parts' bending instead of drifting where no pixel holds it.
     """
     if not ev.weighted:
         return solver.update @ ev.dbar.ravel() - solver.prior @ a_act
-    gram = np.tensordot(ev.block_weight, solver.block_gram, axes=1)
-    gone = np.nonzero((ev.block_weight[level.block] > 0) & ~ev.use)[0]
+    gram = np.tensordot(ev.triangle_weight, solver.triangle_gram, axes=1)
+    gone = np.nonzero((ev.triangle_weight[level.triangle] > 0) & ~ev.use)[0]
     if len(gone):
         rows = (3 * gone[:, None] + np.arange(3)).ravel()
         jg = solver.jacobian[rows].astype(np.float64)
         gram = gram - jg.T @ jg
     rhs = solver.jacobian.T @ (ev.dbar * ev.use[:, None]).ravel()
     rhs = rhs - solver.reg * a_act
+    unseen = 1.0 - ev.triangle_weight
+    if anchor is not None and solver.modal.any() and unseen.any():
+        m = solver.modal
+        hold = np.tensordot(unseen, solver.triangle_gram[:, m][:, :, m], axes=1)
+        gram[np.ix_(m, m)] += hold
+        rhs[m] += hold @ (anchor[m] - a_act[m])
     try:
         return np.linalg.solve(gram + solver.penalty, rhs)
     except np.linalg.LinAlgError:

@@ -14,12 +14,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..blob import ActiveBlob
-from ..images import blur
-from .confidence import confidence
+from .confidence import Quality, QualityMeter
 from .decomposition import DifferenceDecomposition, Evaluation, LevelFit, Stopping
-from .level import LazyPyramid, Level
+from .folding import FoldGuard
+from .level import Level
 from .norms import RobustNorm
 from .params import ParamLayout, node_positions
+from .pictures import FramePyramid, crop
 from .warp import WarpBackend
 
 #: Coarse grid search around each seed pose, coarsest-level pixels.
@@ -42,6 +43,8 @@ class Fit:
         Mean robust error per used pixel at the finest level (inf when nothing fitted).
     occluded : float
         Fraction of the finest level's pixels left out of the solve.
+    quality : Quality or None
+        The finest level's local correlation (None when nothing fitted).
     """
 
     params: np.ndarray
@@ -49,6 +52,7 @@ class Fit:
     iterations: int
     residual: float = np.inf
     occluded: float = 1.0
+    quality: Quality | None = None
 
 
 class CoarseToFineFitter:
@@ -74,16 +78,18 @@ class CoarseToFineFitter:
         self.stopping = Stopping(
             opt.max_iterations, opt.tolerance, opt.step_tolerance, opt.fine_capture
         )
-        levels = [Level(blob, 0, layout, opt.pixel_budget, opt.block_grid)]
+        patches = opt.lighting == "local"
+        levels = [Level(blob, 0, layout, opt.pixel_budget, patches)]
         while len(levels) < opt.max_levels:
             # Coarse levels only need to bring the fine level into range: a quarter of the
             # budget per level down keeps them cheap on big blobs.
             budget = opt.pixel_budget and opt.pixel_budget // 4 ** len(levels)
-            nxt = Level(blob, len(levels), layout, budget, opt.block_grid)
+            nxt = Level(blob, len(levels), layout, budget, patches)
             if len(nxt) < opt.min_level_pixels:
                 break
             levels.append(nxt)
         floor = 3.0 * float(norm.rho(np.array([norm.sigma / 2]))[0])
+        self.guard = FoldGuard(blob.vertices, blob.triangles, blob.modes[:, : layout.n_modes])
         self.levels = [
             DifferenceDecomposition(
                 lv,
@@ -95,10 +101,13 @@ class CoarseToFineFitter:
                 opt.outlier_factor,
                 floor,
                 self.nodes,
+                self.guard,
             )
             for lv in levels
         ]
         self.frozen: frozenset = frozenset()
+        self._anchor = None
+        self.quality = QualityMeter(levels[0])
 
     def nodes(self, a: np.ndarray) -> np.ndarray:
         """Mesh nodes (m, 2) in frame pixels for parameters ``a``."""
@@ -109,6 +118,15 @@ class CoarseToFineFitter:
             self.blob.modes[:, : self.layout.n_modes],
             self.blob.centre,
         )
+
+    def unfolded(self, a: np.ndarray) -> np.ndarray:
+        """``a`` with its modes pulled towards rest as far as needed to fold nothing."""
+        modes = self.layout.modes
+        if self.guard.valid(a[modes]):
+            return a
+        out = a.copy()
+        out[modes] = self.guard.clamp(a[modes])
+        return out
 
     def set_frozen(self, indices) -> None:
         """Hold these parameter indices; precompute every level's solver for the rest."""
@@ -137,7 +155,7 @@ class CoarseToFineFitter:
     def pyramid(self, frame: np.ndarray, poses, wide: bool):
         """Blurred pyramid of the region around the blob at ``poses`` (all of it when wide).
 
-        Returns (LazyPyramid, origin (2,) float64) or None when the region is empty.
+        Returns (FramePyramid, origin (2,) float64) or None when the region is empty.
         """
         h, w = frame.shape[:2]
         align = 2 ** (len(self.levels) - 1)
@@ -154,36 +172,38 @@ class CoarseToFineFitter:
             y1 = int(np.clip(np.ceil(hi[1] + margin) + 1, 0, h))
             if x1 - x0 < 8 or y1 - y0 < 8:
                 return None
-        roi = blur(np.ascontiguousarray(frame[y0:y1, x0:x1]), self.blob.blur_sigma)
-        return LazyPyramid(roi), np.array([x0, y0], float)
+        roi = crop(frame, (x0, y0, x1, y1), self.blob.blur_sigma)
+        return FramePyramid(roi), np.array([x0, y0], float)
 
     # ------------------------------------------------------------------ fitting
 
-    def fit(self, frame, start, state, wide: bool, known_residual: float | None) -> Fit:
-        """Register from ``start``.
+    def fit(self, frame, seeds, wide: bool, known_residual: float | None, anchor=None) -> Fit:
+        """Register from the best of ``seeds`` (the first is the preferred start).
 
-        1. Unless searching wide, the finest level is tried first: when the prediction was
-           good that is all a frame needs.
-        2. Otherwise coarse to fine from ``start`` and from ``state`` (the last pose: the
-           motion may have reversed), keeping the better.
+        ``anchor`` holds the shape of what no pixel sees (see
+        :meth:`DifferenceDecomposition.fit`); by default the first seed.
+
+        1. Unless searching wide, the finest level is tried first from ``seeds[0]``: when
+           the prediction was good that is all a frame needs.
+        2. Otherwise coarse to fine from each seed, keeping the best.
         3. If that still fits much worse than ``known_residual`` (or the search is wide), a
            grid search over translations at the coarsest level seeds one more descent.
         """
+        start = seeds[0]
         fail = Fit(start, 0.0, 0)
-        if not np.isfinite(start).all():
+        seeds = [self.unfolded(a) for a in seeds if np.isfinite(a).all()]
+        if not seeds:
             return fail
-        seeds = [start]
-        if not wide and not np.allclose(state, start):
-            seeds.append(state)
         pyr = self.pyramid(frame, seeds, wide)
         if pyr is None:
             return fail
         images, origin = pyr
+        self._anchor = seeds[0] if anchor is None else self.unfolded(anchor)
         limit = 3.0 * known_residual if known_residual is not None and not wide else 0.0
         its = 0
         best = None
         if not wide and len(self.levels) > 1:
-            res = self._level_fit(self.levels[0], images, origin, start, bail=limit)
+            res = self._level_fit(self.levels[0], images, origin, seeds[0], bail=limit)
             its += res.iterations
             if res.evaluation is not None:
                 best = res
@@ -202,12 +222,19 @@ class CoarseToFineFitter:
         ev = best.evaluation
         if ev is None or not self._plausible(best.params):
             return Fit(start, 0.0, its)
-        conf = confidence(self.levels[0].level, ev)
-        return Fit(best.params, conf, its, ev.residual, ev.occluded)
+        q = self.quality(ev)
+        return Fit(best.params, q.value, its, ev.residual, ev.occluded, q)
 
     def _level_fit(self, step: DifferenceDecomposition, images, origin, a, cap=None, bail=None):
         return step.fit(
-            images[step.index], a, origin, self.active(step.index), self.stopping, cap, bail
+            images[step.index],
+            a,
+            origin,
+            self.active(step.index),
+            self.stopping,
+            cap,
+            bail,
+            self._anchor,
         )
 
     def _descend(self, images, origin, start, wide: bool) -> LevelFit:

@@ -14,6 +14,7 @@ import scipy.sparse
 from ..blob import ActiveBlob
 from ..mesh import TriMesh, rasterize
 from .params import ParamLayout, node_positions
+from .photometry import Patches, group_triangles
 from .warp import REMAP_ROW, WarpBackend, WarpGeometry
 
 #: Parameter steps at every level: translations and modes move the blob by one level pixel
@@ -31,20 +32,8 @@ def pyramid(image: np.ndarray, levels: int) -> list[np.ndarray]:
     return out
 
 
-class LazyPyramid:
-    """``pyramid`` built on demand: most frames only need level 0."""
-
-    def __init__(self, image: np.ndarray):
-        self._levels = [image]
-
-    def __getitem__(self, level: int) -> np.ndarray:
-        while len(self._levels) <= level:
-            self._levels.append(cv2.pyrDown(self._levels[-1]))
-        return self._levels[level]
-
-
 class Level:
-    """One pyramid level of a blob: template pixels, mode fields, blocks and solvers.
+    """One pyramid level of a blob: template pixels, their triangles and mode fields.
 
     Parameters
     ----------
@@ -54,8 +43,9 @@ class Level:
     layout : ParamLayout
     pixel_budget : int or None
         Use at most about this many template pixels (an even subsample) in the solve.
-    block_grid : int
-        The template's bounding box is cut into ``block_grid^2`` blocks for outlier rejection.
+    patches : bool
+        Group the pixels into lighting patches (see :mod:`.photometry`) whose gain and bias
+        are projected out of every comparison.
     """
 
     def __init__(
@@ -64,7 +54,7 @@ class Level:
         index: int,
         layout: ParamLayout,
         pixel_budget: int | None = None,
-        block_grid: int = 6,
+        patches: bool = False,
     ):
         self.index = index
         self.scale = 2.0**-index
@@ -79,9 +69,20 @@ class Level:
         else:
             ps = rasterize(TriMesh(self.vertices, blob.triangles, blob.boundary))
             coords, tri, weights = ps.coords, ps.triangle, ps.weights
+        n_all = len(coords)
         if pixel_budget and len(coords) > pixel_budget:
             step = int(np.ceil(len(coords) / pixel_budget))
             coords, tri, weights = coords[::step], tri[::step], weights[::step]
+        patch = None
+        self.patch_of_triangle = None
+        if patches:
+            # Pixels stored patch by patch (each patch's sums are then one reduceat).
+            centroids = self.vertices[blob.triangles].mean(axis=1)
+            of_tri = group_triangles(centroids, tri, len(coords) / n_all)
+            order = np.argsort(of_tri[tri], kind="stable")
+            coords, tri, weights = coords[order], tri[order], weights[order]
+            patch = of_tri[tri]
+            self.patch_of_triangle = of_tri
         self.geometry = WarpGeometry(self.vertices, blob.triangles, coords, tri, weights)
         # Texture of this level: the blob's blurred crop taken down the same pyramid.
         origin = blob.texture_origin.astype(np.float64)
@@ -91,6 +92,7 @@ class Level:
         local = (coords - self.texture_origin).round().astype(np.int64)
         local = np.clip(local, 0, np.array(tex.shape[1::-1]) - 1)
         self.template = np.ascontiguousarray(tex[local[:, 1], local[:, 0]])  # (n, 3) float32
+        self.patches = None if patch is None else Patches(patch, self.template)
         # Pixel positions follow the warped nodes barycentrically (the warp is piecewise
         # affine), so they are one sparse product S @ nodes, S (n_pad, m) holding each pixel's
         # three weights. Padded to whole remap rows.
@@ -105,13 +107,13 @@ class Level:
             shape=(self.n_pad, len(self.vertices)),
         )
         self.all_valid = np.ones(n, dtype=bool)  # shared "every pixel is usable" mask
-        # Pixel blocks for outlier rejection.
-        lo, hi = coords.min(axis=0), coords.max(axis=0) + 1
-        cell = np.floor((coords - lo) / (hi - lo) * block_grid).astype(np.int64)
-        raw = cell[:, 1] * block_grid + cell[:, 0]
-        _, self.block = np.unique(raw, return_inverse=True)
-        self.n_blocks = int(self.block.max()) + 1
-        self.block_size = np.bincount(self.block, minlength=self.n_blocks).astype(np.float64)
+        # Triangles are the units of visibility: hidden (compressed by foreshortening),
+        # occluded (outlying error) or off the picture, their pixels leave the solve.
+        self.triangle = np.asarray(tri, dtype=np.int64)
+        self.n_triangles = len(blob.triangles)
+        self.triangle_size = np.bincount(self.triangle, minlength=self.n_triangles).astype(
+            np.float64
+        )
 
     def __len__(self) -> int:
         return len(self.geometry.coords)
@@ -160,7 +162,7 @@ class Level:
         Returns
         -------
         B : (3n, 4p) float64
-            Columns ``I0 - W(I0, n_k)``.
+            Columns ``I0 - W(I0, n_k)`` (with the lighting patches projected out).
         N : (p, 4p) float64
             Parameter displacement of each column (within the active parameters).
         """
@@ -195,4 +197,6 @@ class Level:
                     nodes = self.nodes(a) - self.texture_origin
                     diff = i0 - backend.sample(self.geometry, nodes, pos)
                 b[:, col] = diff.ravel()
+        if self.patches is not None:
+            b = self.patches.project_basis(b.reshape(n, 3, -1)).reshape(3 * n, -1)
         return b, nmat

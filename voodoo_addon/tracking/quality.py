@@ -47,13 +47,15 @@ def folded_triangles(vertices: np.ndarray, rest: np.ndarray, triangles: np.ndarr
     Returns
     -------
     (t,) bool
-        True where the signed area has the opposite sign or less than
-        :data:`FOLD_AREA_RATIO` of the rest area (and for non-finite nodes).
+        True where the signed area has turned over, or shrunk below
+        :data:`FOLD_AREA_RATIO` of the rest area relative to the median triangle (so a
+        blob that shrinks as a whole is not collapsed), and for non-finite nodes.
     """
     ref = triangle_areas(rest, triangles)
     now = triangle_areas(vertices, triangles)
     ratio = now / np.where(np.abs(ref) > 1e-12, ref, 1e-12)
-    return ~(ratio >= FOLD_AREA_RATIO)  # NaN counts as folded
+    typical = np.median(ratio) if np.isfinite(ratio).all() else np.nan
+    return ~(ratio >= FOLD_AREA_RATIO * max(typical, 0.0)) | ~(ratio > 0)  # NaN: folded
 
 
 @dataclass(frozen=True)

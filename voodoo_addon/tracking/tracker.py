@@ -17,8 +17,10 @@ from ..errors import VoodooError
 from .fitter import CoarseToFineFitter, Fit
 from .norms import LorentzianNorm, RobustNorm
 from .params import ParamLayout
-from .proposals import FeatureMatcher
+from .proposals import FeatureMatcher, MotionProposal
 from .warp import CpuWarp, WarpBackend
+
+LIGHTING = ("local", "channel", "global", "none")
 
 
 @dataclass(frozen=True)
@@ -31,9 +33,12 @@ class TrackerOptions:
         Scale of the Lorentzian norm (Eq. 9), image units.
     gamma : float
         Weight of the modal-stiffness prior (Eq. 10) against the mean robust error.
-    photometric : {"channel", "global", "none"}
-        Brightness/contrast model (Eq. 4). Per channel by default: webcams re-balance white
-        and lamps are coloured, so the three channels drift independently.
+    lighting : {"local", "channel", "global", "none"}
+        How lighting changes are absorbed. "local" (default): template and frames are
+        normalised locally (see :mod:`.pictures`), which removes exposure, white balance and
+        shading that varies across the surface; no photometric parameters are fitted. The
+        others compare blurred colours with the paper's brightness/contrast model (Eq. 4)
+        per channel, once for all channels, or not at all.
     max_levels : int
         Pyramid levels at most (coarse to fine).
     min_level_pixels : int
@@ -50,24 +55,25 @@ class TrackerOptions:
         first update there moves the nodes by more than this many pixels RMS.
     pixel_budget : int or None
         Template pixels used at full resolution at most (an even subsample beyond).
-    block_grid : int
-        Blocks per side for occlusion rejection.
     outlier_factor : float
-        A block whose mean robust error exceeds this many times the median block's is
-        treated as occluded for the iteration.
+        A triangle whose mean robust error exceeds this many times the median triangle's
+        is treated as occluded for the iteration.
     lost_below : float
         A frame whose confidence falls below this is lost.
     reacquire_above : float
         While lost, a frame must reach this confidence to count as found again.
     predict : bool
         Extrapolate the motion of the last two frames to start each frame.
+    propose_below : float
+        When the extrapolated start fits worse than this, textured points followed from the
+        previous frame propose another start (see :mod:`.proposals`).
     features : bool
         Re-acquire a lost blob by matching SIFT features against the template.
     """
 
     sigma: float = 0.15
     gamma: float = 1e-5
-    photometric: str = "channel"
+    lighting: str = "local"
     max_levels: int = 3
     min_level_pixels: int = 300
     max_iterations: int = 8
@@ -75,11 +81,11 @@ class TrackerOptions:
     step_tolerance: float = 0.06
     fine_capture: float = 1.0
     pixel_budget: int | None = 20000
-    block_grid: int = 6
     outlier_factor: float = 4.0
     lost_below: float = 0.35
     reacquire_above: float = 0.5
     predict: bool = True
+    propose_below: float = 0.7
     features: bool = True
 
 
@@ -145,10 +151,14 @@ class Tracker:
         self.options = opt = options or TrackerOptions()
         self.backend = backend or CpuWarp()
         self.norm = norm or LorentzianNorm(opt.sigma)
-        self.layout = ParamLayout(tuple(str(s) for s in blob.labels), opt.photometric)
+        if opt.lighting not in LIGHTING:
+            raise VoodooError(f"Unknown lighting model {opt.lighting!r}; use one of {LIGHTING}.")
+        photometric = "channel" if opt.lighting == "local" else opt.lighting
+        self.layout = ParamLayout(tuple(str(s) for s in blob.labels), photometric)
         self.fitter = CoarseToFineFitter(blob, self.layout, self.backend, self.norm, opt)
         self.frame_size = tuple(int(v) for v in blob.frame_size)
-        self._matcher = FeatureMatcher(blob) if opt.features else None
+        self._matcher = FeatureMatcher(blob, self.layout) if opt.features else None
+        self._motion = MotionProposal(blob, self.layout)
         self.set_frozen(frozen)
         self.reset()
 
@@ -184,6 +194,7 @@ class Tracker:
         self.last_good = a.copy()
         self.lost = False
         self._last_residual = None
+        self._previous = None
 
     def nodes(self, a: np.ndarray) -> np.ndarray:
         """Mesh nodes (m, 2) in frame pixels for parameters ``a``."""
@@ -196,8 +207,10 @@ class Tracker:
 
         Parameters
         ----------
-        frame : (H, W, 3) float32
-            RGB in [0, 1], the capture frame's size.
+        frame : (H, W, 3) uint8 or float32
+            RGB (uint8, or float in [0, 1]), the capture frame's size. Only the region
+            around the blob is converted. The tracker keeps a reference to the frame until
+            the next call (to follow points from it): do not write into it meanwhile.
 
         Returns
         -------
@@ -206,22 +219,28 @@ class Tracker:
         frame = self._check_frame(frame)
         opt = self.options
         was_lost = self.lost
-        start = self.last_good if was_lost else self._predict()
         need = opt.reacquire_above if was_lost else opt.lost_below
-        fit = self._fit(frame, start, wide=was_lost)
+        if was_lost:
+            fit = self._fit(frame, [self.last_good], wide=True)
+        else:
+            pred = self._predict()
+            seeds = [pred] if np.allclose(pred, self.state) else [pred, self.state]
+            fit = self._fit(frame, seeds, wide=False)
         its = fit.iterations
-        warnings = []
+        # The prediction fits badly: the motion of textured points since the last frame.
+        if not was_lost and fit.confidence < opt.propose_below and self._previous is not None:
+            guess = self._motion.propose(self._previous, frame, self.state)
+            if guess is not None:
+                fit, its = self._better(fit, self._fit(frame, [self._keep_frozen(guess)]), its)
         # Before giving up: a wide search from the last good pose, then from features.
         for fallback in (self._wide_start, self._feature_start):
             if fit.confidence >= need:
                 break
             start2 = fallback(frame, was_lost)
-            if start2 is None:
-                continue
-            fit2 = self._fit(frame, start2, wide=True)
-            its += fit2.iterations
-            if fit2.confidence > fit.confidence:
-                fit = fit2
+            if start2 is not None:
+                fit, its = self._better(fit, self._fit(frame, [start2], wide=True), its)
+        self._previous = frame
+        warnings = []
         if fit.confidence >= need:
             a = fit.params
             self._last_residual = fit.residual
@@ -250,8 +269,19 @@ class Tracker:
 
     # ------------------------------------------------------------------ internals
 
-    def _fit(self, frame, start, wide: bool) -> Fit:
-        return self.fitter.fit(frame, start, self.state, wide, self._last_residual)
+    def _fit(self, frame, seeds, wide: bool = False) -> Fit:
+        anchor = None if self.lost else self.state
+        return self.fitter.fit(frame, seeds, wide, self._last_residual, anchor)
+
+    @staticmethod
+    def _better(fit: Fit, other: Fit, its: int):
+        """The fit with the higher confidence, and the iterations of both."""
+        return (other if other.confidence > fit.confidence else fit), its + other.iterations
+
+    def _keep_frozen(self, guess: np.ndarray) -> np.ndarray:
+        frozen = list(self.frozen)
+        guess[frozen] = self.state[frozen]
+        return guess
 
     def _wide_start(self, frame, was_lost):
         """The last good pose (already searched wide when the blob was lost)."""
@@ -261,7 +291,7 @@ class Tracker:
         """A pose from SIFT matches against the template, frozen parameters kept."""
         if self._matcher is None:
             return None
-        guess = self._matcher.guess(frame, self.blob.centre, self.last_good)
+        guess = self._matcher.guess(frame, self.last_good)
         if guess is not None:
             frozen = list(self.frozen)
             guess[frozen] = self.last_good[frozen]
@@ -271,8 +301,8 @@ class Tracker:
         frame = np.asarray(frame)
         if frame.ndim != 3 or frame.shape[2] != 3:
             raise VoodooError(f"A frame must be an RGB picture; got shape {frame.shape}.")
-        if frame.dtype != np.float32:
-            raise VoodooError("Frames must be float32 RGB in [0, 1] (see images.to_float_rgb).")
+        if frame.dtype not in (np.uint8, np.float32):
+            raise VoodooError("Frames must be uint8 RGB, or float32 RGB in [0, 1].")
         h, w = frame.shape[:2]
         if (w, h) != self.frame_size:
             raise VoodooError(
@@ -287,5 +317,6 @@ class Tracker:
             lay = self.layout
             vel = self.state - self._prev
             a[:4] += vel[:4]
-            a[lay.modes] += vel[lay.modes]
+            modes = lay.modes
+            a[modes] += self.fitter.guard.max_step(a[modes], vel[modes]) * vel[modes]
         return a
