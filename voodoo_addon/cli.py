@@ -189,8 +189,11 @@ def main(argv=None) -> int:
     if args.command == "track" and not (args.contour or args.blob):
         print("error: track needs --contour (or --blob)", file=sys.stderr)
         return 2
+    from .tracking.tracker import single_blas_thread
+
     try:
-        return args.func(args)
+        with single_blas_thread():  # small linear algebra: threads only spin (see there)
+            return args.func(args)
     except VoodooError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2

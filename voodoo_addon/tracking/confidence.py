@@ -19,7 +19,7 @@ from .decomposition import Evaluation
 from .level import Level
 
 #: Pixels the quality is computed on (an even subsample of the level's).
-QUALITY_SAMPLES = 3000
+QUALITY_SAMPLES = 1500
 #: A triangle-channel needs this many pixels for its correlation to count.
 MIN_PIXELS = 6
 #: Below this fraction of the textured blob seen, the quality falls in proportion.
@@ -68,7 +68,9 @@ class QualityMeter:
         self.key = (tri[:, None] * self.channels + np.arange(self.channels)).ravel()
         self.t = t.ravel()
         self.size = self.n_tri * self.channels
-        count, _, var = self._stats(np.ones_like(self.t), self.t)
+        ones = np.ones_like(self.t)
+        count, mean, var = self._stats(ones, self.t)
+        self._all = (count, mean, var)  # the template's statistics when every pixel is used
         ok = count >= MIN_PIXELS
         # Texture weight of each triangle-channel: its pixels times its contrast, the
         # contrast capped at the median so that a few high-contrast spots do not rule.
@@ -84,12 +86,19 @@ class QualityMeter:
         return count, mean, np.maximum(ss / np.maximum(count, 1.0) - mean * mean, 0.0)
 
     def __call__(self, ev: Evaluation) -> Quality:
-        use = np.repeat(ev.use[:: self.step].astype(np.float64), self.channels)
         s = ev.samples[:: self.step].astype(np.float64).ravel()
         t = self.t
-        count, mt, vt = self._stats(use, t)
-        _, ms, vs = self._stats(use, s)
-        cross = np.bincount(self.key, weights=use * t * s, minlength=self.size)
+        if ev.weighted:
+            use = np.repeat(ev.use[:: self.step].astype(np.float64), self.channels)
+            count, mt, vt = self._stats(use, t)
+            s = s * use
+        else:
+            count, mt, vt = self._all
+        s_sum = np.bincount(self.key, weights=s, minlength=self.size)
+        s_sq = np.bincount(self.key, weights=s * s, minlength=self.size)
+        ms = s_sum / np.maximum(count, 1.0)
+        vs = np.maximum(s_sq / np.maximum(count, 1.0) - ms * ms, 0.0)
+        cross = np.bincount(self.key, weights=t * s, minlength=self.size)
         cov = cross / np.maximum(count, 1.0) - mt * ms
         den = np.sqrt(vt * vs)
         ok = (count >= MIN_PIXELS) & (den > 1e-9) & (self.weight > 0)

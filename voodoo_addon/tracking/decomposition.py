@@ -262,7 +262,7 @@ class DifferenceDecomposition:
         hid = self.guard.ratios(a[self.layout.modes]) < HIDE_AREA
         return hid if hid.any() else None
 
-    def evaluate(self, a, org, box, nodes=None) -> Evaluation | None:
+    def evaluate(self, a, org, box, nodes=None, occluded=None) -> Evaluation | None:
         """Warp, sample and compare at ``a`` on the bound picture."""
         return evaluate(
             self.level,
@@ -276,6 +276,7 @@ class DifferenceDecomposition:
             self.floor,
             nodes,
             self.hidden(a),
+            occluded,
         )
 
     def fit(
@@ -314,11 +315,14 @@ class DifferenceDecomposition:
         nodes_a = self._nodes(a)
         its = 0
         full = level.index == 0  # level nodes are frame nodes: reuse them
+        occluded = None  # found once per fit, on the first evaluation close enough to tell
         for _ in range(cap or stopping.max_iterations):
-            ev = self.evaluate(a, org, box, nodes_a if full else None)
+            ev = self.evaluate(a, org, box, nodes_a if full else None, occluded)
             its += 1
             if ev is None:
                 break
+            if occluded is None:
+                occluded = ev.occluded_triangles
             if best is not None:
                 if ev.residual > best.residual and ev.weighted == best.weighted:
                     break  # got worse: keep the previous estimate

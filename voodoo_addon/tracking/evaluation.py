@@ -30,6 +30,10 @@ _ONES3 = np.ones(3, dtype=np.float32)
 #: is covered by something.
 ALIGNED_CORRELATION = 0.7
 OCCLUDED_CORRELATION = 0.5
+#: Global brightness and contrast changes smaller than this are not undone (half a grey
+#: level of an 8-bit picture).
+LIGHTING_EPS = 1.0 / 512
+
 #: Occlusion is only believed when it leaves at least this much of the seen blob.
 MAX_OCCLUDED = 0.5
 #: Per-channel robust error at which the compared residual saturates: the Lorentzian's value
@@ -57,6 +61,8 @@ class Evaluation:
         Mean robust error, capped per pixel, over the pixels that can be seen.
     weighted : bool
         Some pixels are left out (``use`` is not all true).
+    occluded : (t,) bool or None
+        The triangles this evaluation found occluded (None when it did not look).
     """
 
     samples: np.ndarray
@@ -66,9 +72,10 @@ class Evaluation:
     triangle_weight: np.ndarray
     residual: float
     weighted: bool
+    occluded_triangles: np.ndarray | None = None
 
     @property
-    def occluded(self) -> float:
+    def occluded_share(self) -> float:
         """Fraction of the level's pixels left out of the solve."""
         if not self.weighted:
             return 0.0
@@ -95,6 +102,7 @@ def evaluate(
     floor: float,
     nodes: np.ndarray | None = None,
     hidden: np.ndarray | None = None,
+    occluded: np.ndarray | None = None,
 ) -> Evaluation | None:
     """Warp, sample and compare at ``a``: the robust difference image (Eq. 12, 16).
 
@@ -116,6 +124,8 @@ def evaluate(
         ``level.nodes(a)`` when the caller has them.
     hidden : (t,) bool, optional
         Triangles known to be hidden (turned away from the camera): left out.
+    occluded : (t,) bool, optional
+        Triangles already found occluded in this frame: left out, and no new test is made.
 
     Returns
     -------
@@ -154,17 +164,24 @@ def evaluate(
         seen &= ~hidden
     weight = seen.astype(np.float64)
     use = mask
-    # Occlusion only at full resolution: on coarse levels a triangle that is merely
-    # misaligned looks occluded, and dropping it loses the texture that would align it.
-    if level.index == 0 and seen.any():
+    # Occlusion only at full resolution and once the fit is close (the typical lighting
+    # patch correlates): on coarse levels, or early in the iterations, a triangle that is
+    # merely misaligned looks occluded, and dropping it loses the texture that would align it.
+    detected = None
+    if occluded is not None:
+        weight[occluded] = 0.0
+    elif level.index == 0 and seen.any() and _aligned(correlation):
         r_tri = np.bincount(level.triangle, weights=loss * mask, minlength=nt)
         r_tri /= np.maximum(count, 1.0)
         limit = outlier_factor * max(float(np.median(r_tri[seen])), floor)
         out = seen & (r_tri > limit)
         if correlation is not None:
-            out |= seen & _uncorrelated(correlation)[level.patch_of_triangle]
-        if out.any() and size[out].sum() <= MAX_OCCLUDED * size[seen].sum():
-            weight[out] = 0.0
+            low = np.nan_to_num(correlation, nan=1.0) < OCCLUDED_CORRELATION
+            out |= seen & low[level.patch_of_triangle]
+        if not out.any() or size[out].sum() > MAX_OCCLUDED * size[seen].sum():
+            out[:] = False
+        weight[out] = 0.0
+        detected = out
     if not weight[size > 0].all():
         use = use & (weight[level.triangle] > 0)
     if use is not mask and patches is not None:
@@ -179,23 +196,30 @@ def evaluate(
     # come and go.
     capped = np.minimum(loss, LOSS_CAP * _ONES3.sum())
     residual = float(capped.mean() if mask is level.all_valid else capped[mask].mean())
-    return Evaluation(samples, dbar, valid, use, weight, residual, weighted)
+    return Evaluation(samples, dbar, valid, use, weight, residual, weighted, detected)
 
 
 def _difference(level: Level, layout: ParamLayout, a: np.ndarray, samples: np.ndarray):
-    """``I0 - (S - b) / c``: template minus frame with the global lighting undone (Eq. 4)."""
+    """``I0 - (S - b) / c``: template minus frame with the global lighting undone (Eq. 4).
+
+    A global lighting within half an 8-bit grey level of none is not undone.
+    """
     if layout.photometric == "none":
         return level.template - samples
-    c, b = layout.channel_gain_offset(a)
-    d = np.multiply(samples, (1.0 / c).astype(np.float32))
-    np.subtract(level.template, d, out=d)
-    d += (b / c).astype(np.float32)
+    b = a[layout.brightness]
+    c = np.exp(a[layout.contrast])
+    if np.abs(c - 1.0).max() < LIGHTING_EPS and np.abs(b).max() < LIGHTING_EPS:
+        return level.template - samples
+    inv_c = (1.0 / c).astype(np.float32)
+    d = np.multiply(samples, -inv_c)
+    d += level.template
+    d += (b * inv_c).astype(np.float32)
     return d
 
 
-def _uncorrelated(correlation: np.ndarray) -> np.ndarray:
-    """Patches that do not correlate while the typical patch does (NaN: never)."""
-    known = np.isfinite(correlation)
-    if not known.any() or float(np.median(correlation[known])) < ALIGNED_CORRELATION:
-        return np.zeros(len(correlation), bool)
-    return known & (np.nan_to_num(correlation, nan=1.0) < OCCLUDED_CORRELATION)
+def _aligned(correlation) -> bool:
+    """The typical lighting patch correlates with the template (None: no patches, assume so)."""
+    if correlation is None:
+        return True
+    known = correlation[np.isfinite(correlation)]
+    return len(known) > 0 and float(np.median(known)) >= ALIGNED_CORRELATION

@@ -223,7 +223,7 @@ class CoarseToFineFitter:
         if ev is None or not self._plausible(best.params):
             return Fit(start, 0.0, its)
         q = self.quality(ev)
-        return Fit(best.params, q.value, its, ev.residual, ev.occluded, q)
+        return Fit(best.params, q.value, its, ev.residual, ev.occluded_share, q)
 
     def _level_fit(self, step: DifferenceDecomposition, images, origin, a, cap=None, bail=None):
         return step.fit(

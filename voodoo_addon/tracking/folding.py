@@ -93,6 +93,11 @@ class FoldGuard:
         a0 = s * 0.5 * _cross(e1, e2)
         b = s * 0.5 * (_cross(e1, g2) + _cross(g1, e2))
         c = s * 0.5 * _cross(g1, g2)
+        # For tau in [0, 1] the area moves by at most |B| + |C|: most steps are far from
+        # both bounds and need no roots.
+        reach = np.abs(b) + np.abs(c)
+        if np.all(a0 - s * self.low > reach) and np.all(s * self.high - a0 > reach):
+            return 1.0
         tau = min(
             _first_crossing(a0 - s * self.low, b, c),  # area - low stays >= 0
             _first_crossing(s * self.high - a0, -b, -c),  # high - area stays >= 0
@@ -113,16 +118,15 @@ def _first_crossing(f0: np.ndarray, f1: np.ndarray, f2: np.ndarray) -> float:
     ``f0 >= 0`` (up to rounding) for every entry.
     """
     f0 = np.maximum(f0, 0.0)
-    tau = np.ones_like(f0)
     lin = np.abs(f2) < 1e-12
-    with np.errstate(divide="ignore", invalid="ignore"):
-        # Linear: root at -f0 / f1 when f1 < 0.
-        t_lin = np.where(f1 < 0, -f0 / f1, np.inf)
-        disc = f1 * f1 - 4.0 * f2 * f0
-        sq = np.sqrt(np.maximum(disc, 0.0))
-        # Both roots of the quadratic; keep the smallest positive one that exists.
-        r1 = (-f1 - sq) / (2.0 * f2)
-        r2 = (-f1 + sq) / (2.0 * f2)
+    # Linear: root at -f0 / f1 when f1 < 0.
+    t_lin = np.divide(-f0, f1, out=np.full_like(f0, np.inf), where=f1 < 0)
+    disc = f1 * f1 - 4.0 * f2 * f0
+    sq = np.sqrt(np.maximum(disc, 0.0))
+    # Both roots of the quadratic; keep the smallest positive one that exists.
+    two_a = np.where(lin, 1.0, 2.0 * f2)
+    r1 = (-f1 - sq) / two_a
+    r2 = (-f1 + sq) / two_a
     r1 = np.where((disc >= 0) & (r1 > 0), r1, np.inf)
     r2 = np.where((disc >= 0) & (r2 > 0), r2, np.inf)
     t_quad = np.minimum(r1, r2)

@@ -30,6 +30,7 @@ as a patch whose gain fell to zero.
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse
 
 #: A patch gathers triangles until it holds about this many of the level's pixels...
 PATCH_PIXELS = 48
@@ -121,6 +122,34 @@ class Patches:
         per_value = self.energy / self.count
         #: Patches with enough texture for their correlation to mean something.
         self.textured = per_value >= 0.1 * float(np.median(per_value))
+        # The unmasked projection as sparse products over the flattened (n * c) values:
+        # coef = A d gives each patch's mean and gain, d - C coef removes them, and
+        # S d^2 sums the squares per patch (for the correlation).
+        n, c = t.shape
+        g = len(self.starts)
+        of_value = np.repeat(np.repeat(np.arange(g), self._repeat), c)  # (n * c,)
+        cols = np.arange(n * c)
+        dev = self.dev.ravel()
+        self._coef = scipy.sparse.csr_matrix(
+            (
+                np.r_[1.0 / self.count[of_value], dev / self._energy[of_value]],
+                (np.r_[2 * of_value, 2 * of_value + 1], np.r_[cols, cols]),
+            ),
+            shape=(2 * g, n * c),
+            dtype=np.float32,
+        )
+        self._back = scipy.sparse.csr_matrix(
+            (
+                np.r_[np.ones(n * c), dev],
+                (np.r_[cols, cols], np.r_[2 * of_value, 2 * of_value + 1]),
+            ),
+            shape=(n * c, 2 * g),
+            dtype=np.float32,
+        )
+        self._template_flat = t.astype(np.float32).ravel()
+        self._squares = scipy.sparse.csr_matrix(
+            (np.ones(n * c), (of_value, cols)), shape=(g, n * c), dtype=np.float32
+        )
 
     def __len__(self) -> int:
         return len(self.starts)
@@ -157,26 +186,44 @@ class Patches:
             Each patch's correlation of frame and template (NaN where the patch has no
             pixel in the mask or too little texture).
         """
+        flat = d.ravel()
         if mask is None:
-            centred = d - self._spread((self._sum(d) / self.count).astype(np.float32))
-            dev = self.dev32
+            coef = self._coef @ flat  # (2G,): mean, then gain, of every patch
+            projected = (flat - self._back @ coef).reshape(d.shape)
+            mean, along = coef[0::2].astype(np.float64), coef[1::2].astype(np.float64)
             energy = self.energy
-        else:
-            m = mask.astype(np.float32)[:, None]
-            cnt = np.maximum(self._sum(np.broadcast_to(m, d.shape)), 1.0)
-            t = self.template
-            dev = ((t - self._spread(self._sum(t * m) / cnt)) * m).astype(np.float32)
-            centred = (d - self._spread((self._sum(d * m) / cnt).astype(np.float32))) * m
-            energy = self._sum(dev.astype(np.float64) ** 2)
-        s_xt = self._sum(centred * dev)
-        s_xx = self._sum(centred * centred)
+            s_xt = along * energy
+            s_xx = (self._squares @ (flat * flat)) - self.count * mean * mean
+            return projected, self._correlation(energy, s_xt, s_xx)
+        # Fitted on the masked values only: per-patch moments of the mask, d and t.
+        m = np.repeat(mask.astype(np.float32), self.channels)
+        t = self._template_flat
+        md, mt = m * flat, m * t
+        sq = self._squares
+        s1 = np.maximum(sq @ m, 1.0).astype(np.float64)
+        sd, st = (sq @ md).astype(np.float64), (sq @ mt).astype(np.float64)
+        std = (sq @ (mt * flat)).astype(np.float64)
+        stt = (sq @ (mt * t)).astype(np.float64)
+        sdd = (sq @ (md * flat)).astype(np.float64)
+        mean_d, mean_t = sd / s1, st / s1
+        energy = np.maximum(stt - st * mean_t, 0.0)
+        s_xt = std - st * mean_d
+        s_xx = np.maximum(sdd - sd * mean_d, 0.0)
         along = s_xt / (energy + 1e-12)
-        projected = centred - dev * self._spread(along.astype(np.float32))
-        # Frame s = t - d: sum(s~ t~) = E - S_xt, sum(s~^2) = E - 2 S_xt + S_xx.
+        g = np.repeat(np.arange(len(self.starts)), self._repeat * self.channels)
+        centred = (
+            flat
+            - mean_d[g].astype(np.float32)
+            - along[g].astype(np.float32) * (t - mean_t[g].astype(np.float32))
+        )
+        return (centred * m).reshape(d.shape), self._correlation(energy, s_xt, s_xx)
+
+    def _correlation(self, energy, s_xt, s_xx) -> np.ndarray:
+        """Frame-template correlation per patch from the sums of the centred difference.
+
+        With ``s = t - d``: ``sum(s~ t~) = E - S_xt`` and ``sum(s~^2) = E - 2 S_xt + S_xx``.
+        """
         cov = energy - s_xt
-        var_s = np.maximum(energy - 2.0 * s_xt + s_xx, 0.0)
-        den = np.sqrt(energy * var_s)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            corr = np.where(den > 1e-12, cov / den, np.nan)
-        corr = np.where(self.textured, corr, np.nan)
-        return projected, corr
+        den = np.sqrt(energy * np.maximum(energy - 2.0 * s_xt + s_xx, 0.0))
+        ok = self.textured & (den > 1e-12)
+        return np.divide(cov, den, out=np.full_like(cov, np.nan), where=ok)

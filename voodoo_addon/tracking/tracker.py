@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from threadpoolctl import ThreadpoolController
 
 from ..blob import ActiveBlob
 from ..errors import VoodooError
@@ -21,6 +22,24 @@ from .proposals import FeatureMatcher, MotionProposal
 from .warp import CpuWarp, WarpBackend
 
 LIGHTING = ("local", "channel", "global", "none")
+
+_threads = None
+
+
+def single_blas_thread():
+    """A context in which NumPy's BLAS runs on one thread.
+
+    A frame's linear algebra is a few hundred small matrix-vector products. A multithreaded
+    BLAS wakes its threads for each and leaves them spinning in ``sched_yield`` between
+    calls: on two cores the tracker then spent as much time in the kernel as in its own
+    work, and slowed everything else down. One thread does the same work faster.
+    """
+    global _threads
+    if _threads is None:
+        import scipy.linalg  # noqa: F401 - loads SciPy's own BLAS, so that it is limited too
+
+        _threads = ThreadpoolController()
+    return _threads.limit(limits=1, user_api="blas")
 
 
 @dataclass(frozen=True)
@@ -81,7 +100,7 @@ class TrackerOptions:
     step_tolerance: float = 0.06
     fine_capture: float = 1.0
     pixel_budget: int | None = 20000
-    outlier_factor: float = 4.0
+    outlier_factor: float = 8.0
     lost_below: float = 0.35
     reacquire_above: float = 0.5
     predict: bool = True
@@ -155,7 +174,8 @@ class Tracker:
             raise VoodooError(f"Unknown lighting model {opt.lighting!r}; use one of {LIGHTING}.")
         photometric = "channel" if opt.lighting == "local" else opt.lighting
         self.layout = ParamLayout(tuple(str(s) for s in blob.labels), photometric)
-        self.fitter = CoarseToFineFitter(blob, self.layout, self.backend, self.norm, opt)
+        with single_blas_thread():
+            self.fitter = CoarseToFineFitter(blob, self.layout, self.backend, self.norm, opt)
         self.frame_size = tuple(int(v) for v in blob.frame_size)
         self._matcher = FeatureMatcher(blob, self.layout) if opt.features else None
         self._motion = MotionProposal(blob, self.layout)
@@ -182,7 +202,8 @@ class Tracker:
             except KeyError as exc:
                 raise VoodooError(str(exc.args[0])) from None
         self.frozen = frozenset(idx)
-        self.fitter.set_frozen(idx)  # precompute the bases now, not on the first frame
+        with single_blas_thread():
+            self.fitter.set_frozen(idx)  # precompute the bases now, not on the first frame
 
     def reset(self, params: np.ndarray | None = None) -> None:
         """Start over from ``params`` (default: the capture pose)."""
@@ -217,6 +238,10 @@ class Tracker:
         TrackResult
         """
         frame = self._check_frame(frame)
+        with single_blas_thread():
+            return self._track(frame)
+
+    def _track(self, frame: np.ndarray) -> TrackResult:
         opt = self.options
         was_lost = self.lost
         need = opt.reacquire_above if was_lost else opt.lost_below
