@@ -27,6 +27,11 @@ from .store import load_blob, load_take
 LINK_KEY = "voodoo"
 #: Shape-key values allowed by the sliders (doll units, see ``retarget.UNIT_FRACTION``).
 SLIDER_RANGE = 10.0
+#: Custom property of a target whose F-curve is the take's per-frame tracking quality.
+QUALITY_PROP = "voodoo_quality"
+#: Stretches of frames whose quality falls below this (or that were lost) get a timeline
+#: marker: the places an animator should look at before trusting the take.
+ATTENTION_BELOW = 0.5
 
 
 def check_target(obj) -> None:
@@ -191,9 +196,12 @@ def apply_take(scene, obj, blob_mesh, take_name: str) -> dict:
         for i in range(data.shape[1]):
             fc = _write_curve(bag_obj, path, i, f, data[:, i], "Object Transforms")
             fc.mute = not use
+    quality = np.where(take.lost, 0.0, take.confidence)
+    _write_quality(obj, bag_obj, frames.astype(np.float64), quality)
     obj.animation_data_create()
     obj.animation_data.action = action
     obj.animation_data.action_slot = slot_obj
+    marked = mark_attention(scene, take_name, frames, quality)
     obj[LINK_KEY] = {
         "blob": blob_mesh.name,
         "take": take_name,
@@ -202,7 +210,66 @@ def apply_take(scene, obj, blob_mesh, take_name: str) -> dict:
         "mapping": mapping.as_list(),
         "rest_matrix": rest_matrix.ravel().tolist(),
     }
-    return {"action": action, "keyed": int(good.sum()), "lost": frames[~good].tolist()}
+    return {
+        "action": action,
+        "keyed": int(good.sum()),
+        "lost": frames[~good].tolist(),
+        "attention": marked,
+    }
+
+
+def attention_message(stretches) -> str | None:
+    """One line for the report about the marked stretches (None when there are none)."""
+    if not stretches:
+        return None
+    first, last = stretches[0]
+    where = f"frame {first}" if first == last else f"frames {first}-{last}"
+    more = f" and {len(stretches) - 1} more" if len(stretches) > 1 else ""
+    return (
+        f"Tracking quality is low at {where}{more}: see the timeline markers and the "
+        f"'{QUALITY_PROP}' curve of the target."
+    )
+
+
+def _write_quality(obj, bag, frames, quality) -> None:
+    """The take's quality as an F-curve of the target's ``voodoo_quality`` property."""
+    obj[QUALITY_PROP] = float(quality[0])
+    obj.id_properties_ui(QUALITY_PROP).update(
+        min=0.0,
+        max=1.0,
+        description="How well the doll was tracked in this frame (0: lost, 1: perfect)",
+    )
+    fc = _write_curve(bag, f'["{QUALITY_PROP}"]', 0, frames, quality, "Tracking Quality")
+    for kp in fc.keyframe_points:
+        kp.interpolation = "CONSTANT"
+
+
+def mark_attention(scene, take_name: str, frames, quality) -> list:
+    """Timeline markers on the stretches of a take that need an animator's eye.
+
+    Markers of an earlier apply of the same take are replaced. Returns the marked
+    stretches as (first, last) scene frames.
+    """
+    prefix = f"{take_name}: "
+    for marker in list(scene.timeline_markers):
+        if marker.name.startswith(prefix):
+            scene.timeline_markers.remove(marker)
+    bad = np.asarray(quality) < ATTENTION_BELOW
+    stretches = []
+    i = 0
+    while i < len(bad):
+        if not bad[i]:
+            i += 1
+            continue
+        j = i
+        while j + 1 < len(bad) and bad[j + 1]:
+            j += 1
+        first, last = int(frames[i]), int(frames[j])
+        label = f"check frame {first}" if first == last else f"check {first}-{last}"
+        scene.timeline_markers.new(prefix + label, frame=first)
+        stretches.append((first, last))
+        i = j + 1
+    return stretches
 
 
 def take_frames(blob_mesh, take_name, take) -> np.ndarray:

@@ -1,7 +1,7 @@
 import bpy
 
 from ..voodoo_addon.errors import VoodooError
-from .apply import apply_take
+from .apply import apply_take, attention_message
 from .common import reports_errors, settings
 
 
@@ -32,6 +32,9 @@ class VOODOO_OT_apply_take(bpy.types.Operator):
             self.report({"INFO"}, msg)
             if out["lost"]:
                 self.report({"WARNING"}, f"{len(out['lost'])} lost frame(s) not keyed.")
+            note = attention_message(out["attention"])
+            if note:
+                self.report({"WARNING"}, note)
         return {"FINISHED"}
 
 

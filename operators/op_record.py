@@ -2,6 +2,7 @@ import bpy
 
 from ..voodoo_addon.errors import VoodooError
 from . import overlay
+from .apply import attention_message
 from .recorder import Recorder
 
 
@@ -19,6 +20,9 @@ def _report_finish(op, info) -> None:
             f"The blob was lost in {len(lost)} frame(s) (first {lost[0]}); "
             "those frames are not keyed.",
         )
+    note = attention_message(info.get("attention"))
+    if note:
+        op.report({"WARNING"}, note)
 
 
 class VOODOO_OT_record_take(bpy.types.Operator):

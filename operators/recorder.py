@@ -10,6 +10,7 @@ import bpy
 import numpy as np
 
 from ..voodoo_addon.errors import VoodooError
+from ..voodoo_addon.images import to_uint8_bgr
 from ..voodoo_addon.retarget import fit_mapping, mode_offsets, rigid_transforms, unit
 from ..voodoo_addon.sources import open_source
 from ..voodoo_addon.take import Take
@@ -134,10 +135,8 @@ class Recorder:
         if frame is None:
             return False
         if self.writer is not None:
-            self.writer.write(
-                np.ascontiguousarray((frame.image[:, :, ::-1] * 255 + 0.5).astype(np.uint8))
-            )
-        res = self.tracker.track(frame.image)
+            self.writer.write(to_uint8_bgr(frame.pixels))
+        res = self.tracker.track(frame.pixels)
         f = self._frame_of(frame)
         if self.rows and self.rows[-1][2] == f:  # two camera frames in one scene frame
             self.rows.pop()
@@ -247,18 +246,13 @@ class Recorder:
         self.close()
         if not self.rows:
             raise VoodooError("No frame was tracked; nothing to keep.")
-        results = [r for *_, r in self.rows]
-        take = Take(
-            vertices=np.stack([r.nodes for r in results]),
-            triangles=self.blob.triangles.copy(),
-            params=np.stack([r.params for r in results]),
-            confidence=np.array([r.confidence for r in results]),
-            lost=np.array([r.lost for r in results]),
-            param_names=np.array(self.tracker.parameter_names, dtype=str),
-            frame_indices=np.array([i for i, *_ in self.rows], dtype=np.int64),
-            times=np.array([t for _, t, *_ in self.rows]),
-            fps=float(self.source.fps),
-            iterations=np.array([r.iterations for r in results], dtype=np.int64),
+        take = Take.from_results(
+            [r for *_, r in self.rows],
+            self.blob.triangles,
+            self.tracker.parameter_names,
+            [i for i, *_ in self.rows],
+            [t for _, t, *_ in self.rows],
+            self.source.fps,
         )
         layout_for(self.blob, take)  # sanity: the layout must round-trip
         store_take(self.blob_mesh, self.take_name, take)
@@ -275,5 +269,7 @@ class Recorder:
             info["clip"] = clip
         if self.target is not None:
             out = apply_take(self.scene, self.target, self.blob_mesh, self.take_name)
-            info.update(lost=out["lost"], applied=True, action=out["action"])
+            info.update(
+                lost=out["lost"], applied=True, action=out["action"], attention=out["attention"]
+            )
         return info

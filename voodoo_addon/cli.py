@@ -1,4 +1,4 @@
-"""Command line: ``python -m voodoo_addon {blob,track,segment,bench,synth} ...``.
+"""Command line: ``python -m voodoo_addon {blob,track,check,segment,bench,synth} ...``.
 
 Bad input exits with status 2 and one line on stderr; see DESIGN.md for the contract.
 """
@@ -8,6 +8,8 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+
+import numpy as np
 
 from .errors import VoodooError
 
@@ -83,6 +85,42 @@ def cmd_track(args) -> int:
     return 0
 
 
+def cmd_check(args) -> int:
+    from .sources import open_source
+    from .take import load_take
+    from .tracking.quality import check_take
+
+    take = load_take(args.take)
+    with open_source(args.video) as src:
+        score = check_take(src, take)
+    if args.json:
+        out = {"frames": len(take), **score.summary()}
+        out["per_frame"] = [
+            None if not np.isfinite(v) else round(float(v), 4) for v in score.per_frame
+        ]
+        out["folded"] = score.folded.astype(int).tolist()
+        out["lost"] = score.lost.astype(int).tolist()
+        print(json.dumps(out))
+        return 0
+    if args.per_frame:
+        print("frame  consistency  seen  folded  lost  confidence")
+        for row, i in enumerate(take.frame_indices):
+            c = score.per_frame[row]
+            print(
+                f"{int(i):5d}  {'   -  ' if not np.isfinite(c) else f'{c:7.3f}'}     "
+                f"{score.seen[row]:4.2f}  {'yes' if score.folded[row] else ' no'}     "
+                f"{'yes' if score.lost[row] else ' no'}   {take.confidence[row]:.3f}"
+            )
+    n = len(take)
+    print(
+        f"check: {n} frames; texture consistency mean {score.mean:.3f}, "
+        f"10th percentile {score.p10:.3f}; folded frames {int(score.folded.sum())} "
+        f"({100 * score.folded_fraction:.0f}%); lost frames {int(score.lost.sum())} "
+        f"({100 * score.lost_fraction:.0f}%)"
+    )
+    return 0
+
+
 def cmd_segment(args) -> int:
     from .contour import save_contour_json
     from .images import read_image, to_uint8_bgr, write_image
@@ -142,6 +180,15 @@ def build_parser() -> argparse.ArgumentParser:
     t.add_argument("--quiet", action="store_true", help="no progress bar")
     _add_blob_args(t)
     t.set_defaults(func=cmd_track)
+
+    c = sub.add_parser(
+        "check", help="judge a take without ground truth: texture consistency, folds, losses"
+    )
+    c.add_argument("video", help="the video the take was tracked on")
+    c.add_argument("take", help="take file (.npz) written by track")
+    c.add_argument("--per-frame", action="store_true", help="a line per frame")
+    c.add_argument("--json", action="store_true", help="print one JSON line")
+    c.set_defaults(func=cmd_check)
 
     s = sub.add_parser("segment", help="find an object's outline automatically")
     s.add_argument("frame")

@@ -44,7 +44,9 @@ def to_float_rgb(image: np.ndarray, bgr: bool = False) -> np.ndarray:
 
 
 def to_uint8_bgr(image: np.ndarray) -> np.ndarray:
-    """Float RGB in [0, 1] to OpenCV's uint8 BGR, for writing and drawing."""
+    """Float RGB in [0, 1] (or 8-bit RGB) to OpenCV's uint8 BGR, for writing and drawing."""
+    if image.dtype == np.uint8:
+        return cv2.cvtColor(image, cv2.COLOR_RGB2BGR)
     return np.ascontiguousarray((np.clip(image, 0, 1)[:, :, ::-1] * 255.0 + 0.5).astype(np.uint8))
 
 

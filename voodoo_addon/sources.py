@@ -9,6 +9,7 @@ from __future__ import annotations
 import abc
 import time
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 
 import cv2
@@ -26,17 +27,23 @@ class Frame:
 
     Attributes
     ----------
-    image : (H, W, 3) float32
-        RGB in [0, 1].
+    pixels : (H, W, 3) uint8 or float32
+        RGB as decoded: 8-bit for videos and cameras (what the tracker takes directly),
+        float in [0, 1] for high-bit-depth pictures.
     index : int
         0-based position in the source.
     time : float
         Seconds since the source started (file: index / fps; camera: wall clock).
     """
 
-    image: np.ndarray
+    pixels: np.ndarray
     index: int
     time: float
+
+    @cached_property
+    def image(self) -> np.ndarray:
+        """(H, W, 3) float32 RGB in [0, 1] (converted on first use)."""
+        return to_float_rgb(self.pixels)
 
 
 class FrameSource(abc.ABC):
@@ -135,7 +142,7 @@ class CaptureSource(FrameSource):
         i = self._index
         self._index += 1
         t = time.monotonic() - self._t0 if self.live else i / self.fps
-        return Frame(to_float_rgb(img, bgr=True), i, t)
+        return Frame(_rgb8(img), i, t)
 
     def seek(self, index: int) -> None:
         if self.live:
@@ -170,6 +177,8 @@ class ImageFolderSource(FrameSource):
         img = cv2.imread(str(self._files[i]), cv2.IMREAD_UNCHANGED)
         if img is None:
             raise VoodooError(f"{self._files[i]} is not a readable picture.")
+        if img.dtype == np.uint8 and img.ndim == 3 and img.shape[2] == 3:
+            return _rgb8(img)
         return to_float_rgb(img, bgr=img.ndim == 3)
 
     def read(self) -> Frame | None:
@@ -207,12 +216,25 @@ class ArraySource(FrameSource):
             return None
         i = self._index
         self._index += 1
-        return Frame(to_float_rgb(self._frames[i]), i, i / self.fps)
+        img = self._frames[i]
+        if not (img.dtype == np.uint8 and img.ndim == 3 and img.shape[2] == 3):
+            img = to_float_rgb(img)
+        return Frame(img, i, i / self.fps)
 
     def seek(self, index: int) -> None:
         if not 0 <= index < len(self._frames):
             raise VoodooError(f"Frame {index} is outside the take (0..{len(self._frames) - 1}).")
         self._index = index
+
+
+def _rgb8(bgr: np.ndarray) -> np.ndarray:
+    """OpenCV's 8-bit BGR(A) or grey as 8-bit RGB (H, W, 3)."""
+    if bgr.dtype != np.uint8:
+        return to_float_rgb(bgr, bgr=bgr.ndim == 3)
+    if bgr.ndim == 2:
+        return cv2.cvtColor(bgr, cv2.COLOR_GRAY2RGB)
+    code = cv2.COLOR_BGRA2RGB if bgr.shape[2] == 4 else cv2.COLOR_BGR2RGB
+    return cv2.cvtColor(bgr, code)
 
 
 def open_source(spec) -> FrameSource:

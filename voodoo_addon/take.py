@@ -17,7 +17,9 @@ from .sources import FrameSource
 from .tracking import Tracker
 
 TAKE_KIND = "voodoo-take"
-TAKE_VERSION = 1
+TAKE_VERSION = 2
+#: Versions this code reads (version 1 had no per-triangle visibility).
+READABLE_VERSIONS = (1, 2)
 
 
 @dataclass(frozen=True, eq=False)
@@ -43,6 +45,9 @@ class Take:
         Seconds (file: index / fps; camera: capture time).
     fps : float
     iterations : (T,) int64
+    visible : (T, t) bool
+        Triangles seen in each frame (the others were off the picture, covered or turned
+        away, and kept their last seen shape).
     """
 
     vertices: np.ndarray
@@ -55,9 +60,45 @@ class Take:
     times: np.ndarray
     fps: float
     iterations: np.ndarray
+    visible: np.ndarray
 
     def __len__(self) -> int:
         return len(self.params)
+
+    @classmethod
+    def from_results(cls, results, triangles, param_names, frame_indices, times, fps) -> Take:
+        """A take from the tracker's per-frame results.
+
+        Parameters
+        ----------
+        results : sequence of TrackResult
+        triangles : (t, 3) int
+        param_names : sequence of str
+        frame_indices, times : sequence (T,)
+            Source frame and time of each result.
+        fps : float
+        """
+        if not len(results):
+            raise VoodooError("No frame was tracked; there is no take.")
+        n_tri = len(triangles)
+        return cls(
+            vertices=np.stack([r.nodes for r in results]),
+            triangles=np.asarray(triangles).copy(),
+            params=np.stack([r.params for r in results]),
+            confidence=np.array([r.confidence for r in results], dtype=np.float64),
+            lost=np.array([r.lost for r in results], dtype=bool),
+            param_names=np.array(param_names, dtype=str),
+            frame_indices=np.asarray(frame_indices, dtype=np.int64),
+            times=np.asarray(times, dtype=np.float64),
+            fps=float(fps),
+            iterations=np.array([r.iterations for r in results], dtype=np.int64),
+            visible=np.stack(
+                [
+                    np.zeros(n_tri, bool) if r.visible is None else r.visible.astype(bool)
+                    for r in results
+                ]
+            ),
+        )
 
 
 def take_to_bytes(take: Take) -> bytes:
@@ -82,6 +123,7 @@ def take_to_bytes(take: Take) -> bytes:
         times=take.times,
         fps=np.array(take.fps),
         iterations=take.iterations,
+        visible=take.visible,
     )
     return buf.getvalue()
 
@@ -95,9 +137,13 @@ def take_from_bytes(data: bytes, source: str = "the take data") -> Take:
         raise VoodooError(f"{source} is not a readable take ({exc}).") from None
     kind = str(d.get("format_kind", ""))
     version = int(d["format_version"]) if "format_version" in d else -1
-    if kind != TAKE_KIND or version != TAKE_VERSION:
+    if kind != TAKE_KIND or version not in READABLE_VERSIONS:
         raise VoodooError(f"{source} is not a Voodoo take of version {TAKE_VERSION}.")
     try:
+        if "visible" in d:
+            visible = d["visible"].astype(bool)
+        else:  # version 1: every triangle of every tracked frame
+            visible = np.repeat(~d["lost"][:, None], len(d["triangles"]), axis=1)
         return Take(
             vertices=d["vertices"],
             triangles=d["triangles"],
@@ -109,6 +155,7 @@ def take_from_bytes(data: bytes, source: str = "the take data") -> Take:
             times=d["times"],
             fps=float(d["fps"]),
             iterations=d["iterations"],
+            visible=visible,
         )
     except KeyError as exc:
         raise VoodooError(f"{source} is incomplete (missing {exc.args[0]}).") from None
@@ -179,26 +226,17 @@ def track_source(
     Take
     """
     tracker = tracker or Tracker(blob)
-    rows = []
+    results, indices, times = [], [], []
     for frame in source:
-        res = tracker.track(frame.image)
-        rows.append((frame.index, frame.time, res))
+        results.append(tracker.track(frame.pixels))
+        indices.append(frame.index)
+        times.append(frame.time)
         if progress is not None:
-            progress(len(rows))
-        if limit is not None and len(rows) >= limit:
+            progress(len(results))
+        if limit is not None and len(results) >= limit:
             break
-    if not rows:
+    if not results:
         raise VoodooError("The source gave no frames to track.")
-    res_list = [r for _, _, r in rows]
-    return Take(
-        vertices=np.stack([r.nodes for r in res_list]),
-        triangles=blob.triangles.copy(),
-        params=np.stack([r.params for r in res_list]),
-        confidence=np.array([r.confidence for r in res_list]),
-        lost=np.array([r.lost for r in res_list]),
-        param_names=np.array(tracker.parameter_names, dtype=str),
-        frame_indices=np.array([i for i, _, _ in rows], dtype=np.int64),
-        times=np.array([t for _, t, _ in rows]),
-        fps=float(source.fps),
-        iterations=np.array([r.iterations for r in res_list], dtype=np.int64),
+    return Take.from_results(
+        results, blob.triangles, tracker.parameter_names, indices, times, source.fps
     )

@@ -19,7 +19,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 DRIVER = Path(__file__).with_name("installed_extension.py")
-BUNDLED = ("scipy", "cv2", "triangle")
+BUNDLED = ("scipy", "cv2", "triangle", "threadpoolctl")
 
 pytestmark = pytest.mark.slow
 

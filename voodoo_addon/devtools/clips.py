@@ -19,6 +19,7 @@ import numpy as np
 
 from ..blob import build_blob
 from ..contour import load_contour_json
+from ..images import to_float_rgb
 from ..sources import open_source
 from ..tracking import Tracker
 from ..tracking.quality import score_track
@@ -124,9 +125,9 @@ def truth_errors(truth: LatticeTruth, rest: np.ndarray, vertices: np.ndarray):
 
 
 def read_clip(clip: Clip):
-    """Decoded frames (float RGB) and the outline."""
+    """Decoded frames (8-bit RGB, as the tracker gets them from a video) and the outline."""
     with open_source(clip.video) as src:
-        frames = [f.image for f in src]
+        frames = [f.pixels for f in src]
         fps = src.fps
     return frames, load_contour_json(clip.outline), fps
 
@@ -149,7 +150,7 @@ def track_ours(frames, blob, options=None):
 def run_clip(clip: Clip, trackers=("ours", "klt", "dis"), options=None) -> list[dict]:
     """Every tracker on one clip; one row per tracker."""
     frames, outline, fps = read_clip(clip)
-    blob = build_blob(frames[0], outline)
+    blob = build_blob(to_float_rgb(frames[0]), outline)
     truth = LatticeTruth(clip.truth) if clip.truth else None
     rows = []
     for name in trackers:

@@ -7,6 +7,11 @@ texture as weight (a flat triangle says nothing about alignment). A mesh that si
 pixels off its texture decorrelates every textured triangle, whatever the lighting; a mesh
 in the right place keeps them high even when part of the blob is covered, as long as enough
 of it is seen.
+
+Correlating each channel on its own is blind to colour: a pattern that repeats (a grid
+painted in coloured squares) correlates as well one square off. So the correlation is
+multiplied by a *colour agreement*: how well the triangles' mean colours (their chroma,
+after the global white balance the fit found is undone) match the template's.
 """
 
 from __future__ import annotations
@@ -17,6 +22,7 @@ import numpy as np
 
 from .decomposition import Evaluation
 from .level import Level
+from .params import ParamLayout
 
 #: Pixels the quality is computed on (an even subsample of the level's).
 QUALITY_SAMPLES = 1500
@@ -58,7 +64,8 @@ class QualityMeter:
         Usually the finest.
     """
 
-    def __init__(self, level: Level):
+    def __init__(self, level: Level, layout: ParamLayout):
+        self.layout = layout
         n = len(level)
         self.step = max(1, n // QUALITY_SAMPLES)
         self.n_tri = level.n_triangles
@@ -77,6 +84,8 @@ class QualityMeter:
         cap = float(np.median(var[ok])) if ok.any() else 0.0
         self.weight = np.where(ok, count * np.minimum(var, cap), 0.0)
         self.total = float(self.weight.sum())
+        # The chroma of each triangle: its mean colour minus its grey, (t, c).
+        self._chroma_t = _chroma(mean.reshape(self.n_tri, self.channels))
 
     def _stats(self, w, x):
         count = np.bincount(self.key, weights=w, minlength=self.size)
@@ -85,8 +94,13 @@ class QualityMeter:
         mean = s / np.maximum(count, 1.0)
         return count, mean, np.maximum(ss / np.maximum(count, 1.0) - mean * mean, 0.0)
 
-    def __call__(self, ev: Evaluation) -> Quality:
-        s = ev.samples[:: self.step].astype(np.float64).ravel()
+    def __call__(self, ev: Evaluation, a: np.ndarray) -> Quality:
+        """The quality of the evaluation ``ev``, made at parameters ``a``."""
+        s = ev.samples[:: self.step].astype(np.float64)
+        if self.layout.photometric != "none":
+            c, b = self.layout.channel_gain_offset(a)
+            s = (s - b) / c
+        s = s.ravel()
         t = self.t
         if ev.weighted:
             use = np.repeat(ev.use[:: self.step].astype(np.float64), self.channels)
@@ -109,9 +123,35 @@ class QualityMeter:
         if not ok.any() or self.total <= 0:
             return Quality(0.0, 0.0, seen, np.full(self.n_tri, np.nan))
         corr = float((w[ok] * ncc[ok]).sum() / w[ok].sum())
-        value = max(corr, 0.0) * min(1.0, seen / FULL_VIEW)
+        colour = self._colour_agreement(ms.reshape(self.n_tri, self.channels), count)
+        value = max(corr, 0.0) * colour * min(1.0, seen / FULL_VIEW)
         per_tri = ncc.reshape(self.n_tri, self.channels)
         has = ~np.isnan(per_tri)
         n_has = has.sum(axis=1)
         tri = np.where(n_has > 0, np.nansum(per_tri, axis=1) / np.maximum(n_has, 1), np.nan)
         return Quality(float(value), corr, seen, tri)
+
+    def _colour_agreement(self, frame_mean: np.ndarray, count: np.ndarray) -> float:
+        """In [0, 1]: 1 when every coloured triangle has the template's chroma.
+
+        The cosine of template and frame chroma per triangle, weighted by how coloured the
+        template is there (grey triangles say nothing), mapped from [-1, 1] to [0, 1].
+        """
+        ct = self._chroma_t
+        cs = _chroma(frame_mean)
+        seen = count.reshape(self.n_tri, self.channels)[:, 0]
+        strength = (ct * ct).sum(axis=1)
+        w = seen * strength
+        norm = np.sqrt(strength * (cs * cs).sum(axis=1))
+        ok = (w > 0) & (norm > 1e-12)
+        if not ok.any() or w[ok].sum() <= 0:
+            return 1.0
+        cos = (ct[ok] * cs[ok]).sum(axis=1) / norm[ok]
+        # Faint chroma is mostly noise: triangles count fully once their chroma is typical.
+        agree = float((w[ok] * cos).sum() / w[ok].sum())
+        return float(np.clip(0.5 * (1.0 + agree), 0.0, 1.0))
+
+
+def _chroma(colours: np.ndarray) -> np.ndarray:
+    """Colours (t, c) minus their grey (mean over the channels)."""
+    return colours - colours.mean(axis=1, keepdims=True)

@@ -308,7 +308,8 @@ class DifferenceDecomposition:
         solver = self.solver(active)  # may build a basis (which binds the template) first
         org, box = self.bind(image, origin)
         level = self.level
-        tol = stopping.step_tolerance if level.index == 0 else 0.25 / level.scale
+        tol = stopping.step_tolerance if level.finest else 0.25
+        tol /= level.scale  # level-0 pixels: a fraction of this level's pixel
         act = solver.active
         best_a, best = a, None
         anchor = (a if anchor is None else anchor)[solver.active]

@@ -170,7 +170,7 @@ def evaluate(
     detected = None
     if occluded is not None:
         weight[occluded] = 0.0
-    elif level.index == 0 and seen.any() and _aligned(correlation):
+    elif level.finest and seen.any() and _aligned(correlation):
         r_tri = np.bincount(level.triangle, weights=loss * mask, minlength=nt)
         r_tri /= np.maximum(count, 1.0)
         limit = outlier_factor * max(float(np.median(r_tri[seen])), floor)

@@ -20,9 +20,12 @@ from .folding import FoldGuard
 from .level import Level
 from .norms import RobustNorm
 from .params import ParamLayout, node_positions
-from .pictures import FramePyramid, crop
+from .pictures import FramePyramid
 from .warp import WarpBackend
 
+#: A blob is tracked on the finest pyramid level where it keeps fewer than this many times
+#: the pixel budget (see :func:`base_level`).
+BASE_FACTOR = 2.0
 #: Coarse grid search around each seed pose, coarsest-level pixels.
 SEARCH_RADIUS = 6
 SEARCH_STEP = 3
@@ -45,6 +48,8 @@ class Fit:
         Fraction of the finest level's pixels left out of the solve.
     quality : Quality or None
         The finest level's local correlation (None when nothing fitted).
+    visible : (t,) bool or None
+        The triangles the finest level compared (not off the picture, hidden or occluded).
     """
 
     params: np.ndarray
@@ -53,6 +58,7 @@ class Fit:
     residual: float = np.inf
     occluded: float = 1.0
     quality: Quality | None = None
+    visible: np.ndarray | None = None
 
 
 class CoarseToFineFitter:
@@ -79,12 +85,14 @@ class CoarseToFineFitter:
             opt.max_iterations, opt.tolerance, opt.step_tolerance, opt.fine_capture
         )
         patches = opt.lighting == "local"
-        levels = [Level(blob, 0, layout, opt.pixel_budget, patches)]
+        self.base = base_level(blob.n_pixels, opt.pixel_budget)
+        levels = [Level(blob, self.base, layout, opt.pixel_budget, patches)]
+        levels[0].finest = True
         while len(levels) < opt.max_levels:
             # Coarse levels only need to bring the fine level into range: a quarter of the
             # budget per level down keeps them cheap on big blobs.
             budget = opt.pixel_budget and opt.pixel_budget // 4 ** len(levels)
-            nxt = Level(blob, len(levels), layout, budget, patches)
+            nxt = Level(blob, self.base + len(levels), layout, budget, patches)
             if len(nxt) < opt.min_level_pixels:
                 break
             levels.append(nxt)
@@ -107,7 +115,7 @@ class CoarseToFineFitter:
         ]
         self.frozen: frozenset = frozenset()
         self._anchor = None
-        self.quality = QualityMeter(levels[0])
+        self.quality = QualityMeter(levels[0], layout)
 
     def nodes(self, a: np.ndarray) -> np.ndarray:
         """Mesh nodes (m, 2) in frame pixels for parameters ``a``."""
@@ -131,8 +139,8 @@ class CoarseToFineFitter:
     def set_frozen(self, indices) -> None:
         """Hold these parameter indices; precompute every level's solver for the rest."""
         self.frozen = frozenset(indices)
-        for level in self.levels:
-            level.solver(self.active(level.index))
+        for step in self.levels:
+            step.solver(self.active(step.index))
 
     def active(self, level: int) -> np.ndarray:
         """Free parameters at a pyramid level.
@@ -142,8 +150,9 @@ class CoarseToFineFitter:
         misalignment on weakly textured dolls); intermediate levels add the lowest modes.
         """
         lay = self.layout
-        coarsest = level == len(self.levels) - 1 and level > 0
-        keep_modes = 0 if coarsest else lay.n_modes >> level
+        rank = level - self.base  # 0: the finest level used
+        coarsest = rank == len(self.levels) - 1 and rank > 0
+        keep_modes = 0 if coarsest else lay.n_modes >> rank
         out = [k for k in range(lay.size) if k not in self.frozen]
         return np.array(
             [k for k in out if not (lay.modes.start + keep_modes <= k < lay.modes.stop)],
@@ -158,7 +167,7 @@ class CoarseToFineFitter:
         Returns (FramePyramid, origin (2,) float64) or None when the region is empty.
         """
         h, w = frame.shape[:2]
-        align = 2 ** (len(self.levels) - 1)
+        align = 2 ** (self.base + len(self.levels) - 1)
         if wide:
             x0 = y0 = 0
             x1, y1 = w, h
@@ -172,8 +181,8 @@ class CoarseToFineFitter:
             y1 = int(np.clip(np.ceil(hi[1] + margin) + 1, 0, h))
             if x1 - x0 < 8 or y1 - y0 < 8:
                 return None
-        roi = crop(frame, (x0, y0, x1, y1), self.blob.blur_sigma)
-        return FramePyramid(roi), np.array([x0, y0], float)
+        pyr = FramePyramid(frame[y0:y1, x0:x1], self.blob.blur_sigma, self.base)
+        return pyr, np.array([x0, y0], float)
 
     # ------------------------------------------------------------------ fitting
 
@@ -222,8 +231,9 @@ class CoarseToFineFitter:
         ev = best.evaluation
         if ev is None or not self._plausible(best.params):
             return Fit(start, 0.0, its)
-        q = self.quality(ev)
-        return Fit(best.params, q.value, its, ev.residual, ev.occluded_share, q)
+        q = self.quality(ev, best.params)
+        visible = ev.triangle_weight > 0
+        return Fit(best.params, q.value, its, ev.residual, ev.occluded_share, q, visible)
 
     def _level_fit(self, step: DifferenceDecomposition, images, origin, a, cap=None, bail=None):
         return step.fit(
@@ -241,7 +251,7 @@ class CoarseToFineFitter:
         """Coarse to fine from ``start``; the finest level's fit."""
         a, its = start.copy(), 0
         for step in reversed(self.levels):
-            cap = self.options.max_iterations * (3 if wide and step.index else 1)
+            cap = self.options.max_iterations * (3 if wide and step.index > self.base else 1)
             res = self._level_fit(step, images, origin, a, cap=cap)
             its += res.iterations
             if res.evaluation is None:
@@ -285,6 +295,21 @@ class CoarseToFineFitter:
             return False
         amp = a[self.layout.modes]
         return bool(np.all(np.abs(amp) < 0.6 * self.blob.length))
+
+
+def base_level(n_pixels: int, budget: int | None) -> int:
+    """The finest pyramid level worth tracking a blob of ``n_pixels`` on.
+
+    A blob much bigger than the pixel budget is subsampled anyway, so reading, blurring and
+    sampling the frame at full resolution buys nothing: track it on the level where it has
+    at most :data:`BASE_FACTOR` times the budget (a 1080p close-up at half resolution).
+    """
+    if not budget:
+        return 0
+    base = 0
+    while n_pixels / 4 ** (base + 1) >= BASE_FACTOR * budget:
+        base += 1
+    return base
 
 
 def _better(a: LevelFit | None, b: LevelFit) -> LevelFit:

@@ -58,6 +58,8 @@ class Level:
     ):
         self.index = index
         self.scale = 2.0**-index
+        #: The finest level the tracker uses (where occlusion is tested).
+        self.finest = index == 0
         self.layout = layout
         f = self.scale
         self.centre = blob.centre * f

@@ -29,8 +29,11 @@ FOLD_AREA_RATIO = 0.01
 
 
 def grey(image: np.ndarray) -> np.ndarray:
-    """Luma (H, W) float32 of float RGB (H, W, 3) in [0, 1]."""
-    return cv2.cvtColor(np.asarray(image, dtype=np.float32), cv2.COLOR_RGB2GRAY)
+    """Luma (H, W) float32 in [0, 1] of RGB (H, W, 3): uint8, or float in [0, 1]."""
+    img = np.asarray(image)
+    if img.dtype == np.uint8:
+        return cv2.cvtColor(img, cv2.COLOR_RGB2GRAY).astype(np.float32) * np.float32(1 / 255)
+    return cv2.cvtColor(img.astype(np.float32), cv2.COLOR_RGB2GRAY)
 
 
 def folded_triangles(vertices: np.ndarray, rest: np.ndarray, triangles: np.ndarray) -> np.ndarray:
@@ -246,3 +249,42 @@ def score_track(frames, vertices, triangles, lost=None) -> Consistency:
     folded = np.array([folded_triangles(vertices[i], rest, triangles).any() for i in range(t)])
     lost = np.zeros(t, bool) if lost is None else np.asarray(lost[:t], dtype=bool)
     return Consistency(np.array(scores), np.array(seen), folded, lost)
+
+
+def check_take(source, take) -> Consistency:
+    """Score a take against the video it was tracked on.
+
+    Parameters
+    ----------
+    source : FrameSource
+        Read from the take's first frame on; the frames the take holds are picked out.
+    take : Take
+
+    Raises
+    ------
+    VoodooError
+        When the video ends before the take does or its frames are not the take's size.
+    """
+    from ..errors import VoodooError
+
+    wanted = {int(i): row for row, i in enumerate(take.frame_indices)}
+    frames = [None] * len(take)
+    start = int(np.min(take.frame_indices))
+    source.seek(start)
+    last = int(np.max(take.frame_indices))
+    for frame in source:
+        if frame.index in wanted:
+            frames[wanted[frame.index]] = frame.pixels
+        if frame.index >= last:
+            break
+    missing = [int(take.frame_indices[i]) for i, f in enumerate(frames) if f is None]
+    if missing:
+        raise VoodooError(
+            f"The video has no frame {missing[0]} of the take ({len(missing)} missing): "
+            "is it the clip the take was tracked on?"
+        )
+    h, w = frames[0].shape[:2]
+    span = np.ptp(take.vertices[np.isfinite(take.vertices).all(axis=(1, 2))], axis=(0, 1))
+    if take.vertices[..., 0].min() > w + span[0] or take.vertices[..., 1].min() > h + span[1]:
+        raise VoodooError("The take's mesh lies outside this video; is it the right clip?")
+    return score_track(frames, take.vertices, take.triangles, take.lost)

@@ -119,7 +119,9 @@ class TrackResult:
     nodes : (m, 2) float64
         Mesh nodes in the frame, pixel coordinates.
     confidence : float
-        In [0, 1]: template/frame correlation times the visible fraction.
+        In [0, 1]: the fit's quality -- the local correlation of template and frame,
+        texture-weighted, times a factor that falls when less than half of the textured blob
+        is seen (see :mod:`.confidence`).
     lost : bool
         True when the blob was not found in this frame (``params`` are then held).
     iterations : int
@@ -130,6 +132,9 @@ class TrackResult:
         Fraction of template pixels rejected as occluded or off the frame.
     reacquired : bool
         True on the first good frame after a loss.
+    visible : (t,) bool
+        Triangles seen in this frame; the others are off the picture, covered, or turned
+        away (their shape is the last one seen). All false when lost.
     """
 
     params: np.ndarray
@@ -140,6 +145,7 @@ class TrackResult:
     residual: float
     occluded: float
     reacquired: bool = False
+    visible: np.ndarray | None = field(default=None, compare=False)
     warnings: tuple = field(default=(), compare=False)
 
 
@@ -289,10 +295,17 @@ class Tracker:
             residual=float(fit.residual),
             occluded=float(fit.occluded),
             reacquired=bool(was_lost and not self.lost),
+            visible=self._visible(fit),
             warnings=tuple(warnings),
         )
 
     # ------------------------------------------------------------------ internals
+
+    def _visible(self, fit: Fit) -> np.ndarray:
+        n = len(self.blob.triangles)
+        if self.lost or fit.visible is None:
+            return np.zeros(n, bool)
+        return fit.visible.copy()
 
     def _fit(self, frame, seeds, wide: bool = False) -> Fit:
         anchor = None if self.lost else self.state

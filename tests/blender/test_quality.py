@@ -1,0 +1,77 @@
+"""Tracking quality where an animator looks: an F-curve on the target, markers on the timeline."""
+
+import bpy
+import numpy as np
+from bpy_extras import anim_utils
+
+
+def _quality_curve(obj, sub):
+    apply = sub("operators.apply")
+    bag = anim_utils.action_get_channelbag_for_slot(
+        obj.animation_data.action, obj.animation_data.action_slot
+    )
+    return bag.fcurves.find(f'["{apply.QUALITY_PROP}"]')
+
+
+def test_every_tracked_frame_keys_the_quality(prepared, sub, make):
+    ctx = prepared
+    s = ctx.scene.voodoo
+    obj = make.flat_target()
+    s.target = obj
+    assert bpy.ops.voodoo.track_clip() == {"FINISHED"}
+    store, apply = sub("operators.store"), sub("operators.apply")
+    take = store.load_take(s.blob, s.last_take)
+    frames = apply.take_frames(s.blob, s.last_take, take)
+    fc = _quality_curve(obj, sub)
+    assert fc is not None
+    keys = np.array([k.co[:] for k in fc.keyframe_points])
+    np.testing.assert_array_equal(keys[:, 0], frames)
+    np.testing.assert_allclose(keys[:, 1], np.where(take.lost, 0.0, take.confidence), atol=1e-6)
+    assert (keys[:, 1] > apply.ATTENTION_BELOW).all()  # a clean take: nothing to look at
+    assert not [m for m in ctx.scene.timeline_markers if m.name.startswith(s.last_take)]
+    ui = obj.id_properties_ui(apply.QUALITY_PROP).as_dict()
+    assert ui["min"] == 0.0 and ui["max"] == 1.0
+
+
+def test_low_quality_stretches_get_one_marker_each(ctx, sub):
+    apply = sub("operators.apply")
+    scene = ctx.scene
+    frames = np.arange(10, 30)
+    quality = np.full(20, 0.9)
+    quality[3:6] = 0.2  # frames 13-15
+    quality[12] = 0.0  # frame 22 (lost)
+    marked = apply.mark_attention(scene, "Take", frames, quality)
+    assert marked == [(13, 15), (22, 22)]
+    names = sorted((m.frame, m.name) for m in scene.timeline_markers)
+    assert names == [(13, "Take: check 13-15"), (22, "Take: check frame 22")]
+    # Applying the same take again replaces its markers; other markers stay.
+    scene.timeline_markers.new("Mine", frame=5)
+    apply.mark_attention(scene, "Take", frames, np.full(20, 0.9))
+    assert [m.name for m in scene.timeline_markers] == ["Mine"]
+
+
+def test_a_take_that_leaves_the_picture_is_marked_and_reported(ctx, make, tmp_path, sub):
+    from voodoo_addon.devtools.synthetic import scenario_take, write_frames
+
+    frames, contour, _ = scenario_take("exit", frames=24, size=(320, 240))
+    path = tmp_path / "exit.avi"
+    write_frames(path, frames)
+    ctx.scene.active_clip = bpy.data.movieclips.load(str(path))
+    bpy.ops.voodoo.capture_frame()
+    make.add_mask(contour, (320, 240))
+    bpy.ops.voodoo.contour_from_mask()
+    bpy.ops.voodoo.build_blob(name="Doll")
+    obj = make.flat_target(keyed=False)
+    ctx.scene.voodoo.target = obj
+    assert bpy.ops.voodoo.track_clip() == {"FINISHED"}
+    take_name = ctx.scene.voodoo.last_take
+    markers = [m for m in ctx.scene.timeline_markers if m.name.startswith(take_name)]
+    assert markers, "the frames where the doll was gone are not marked"
+    store, apply = sub("operators.store"), sub("operators.apply")
+    take = store.load_take(ctx.scene.voodoo.blob, take_name)
+    lost_frames = apply.take_frames(ctx.scene.voodoo.blob, take_name, take)[take.lost]
+    starts = sorted(m.frame for m in markers)
+    assert min(lost_frames) >= starts[0]
+    fc = _quality_curve(obj, sub)
+    for f in lost_frames:
+        assert fc.evaluate(float(f)) == 0.0
