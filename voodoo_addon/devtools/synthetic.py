@@ -76,6 +76,16 @@ class Pose:
         ``frame = contrast * frame + brightness``.
     occluder : (x0, y0, x1, y1) or None
         A flat grey rectangle in front of the object, frame pixels.
+    channel_gain : (3,) float
+        White balance / exposure: each channel multiplied by its gain.
+    shade : (cx, cy, radius, gain) or None
+        A soft shadow (gain < 1) or lit patch (gain > 1) on the object, frame pixels: the
+        object's colours times ``1 + (gain - 1) exp(-d^2 / 2 radius^2)``.
+    glint : (cx, cy, radius, level) or None
+        A specular highlight on the object: white light ``level exp(-d^2 / 2 radius^2)``
+        added.
+    blur : (dx, dy) or None
+        Motion blur along this displacement (pixels) during the exposure.
     """
 
     tx: float = 0.0
@@ -86,6 +96,10 @@ class Pose:
     contrast: float = 1.0
     brightness: float = 0.0
     occluder: tuple | None = None
+    channel_gain: tuple = (1.0, 1.0, 1.0)
+    shade: tuple | None = None
+    glint: tuple | None = None
+    blur: tuple | None = None
 
 
 class Scene:
@@ -151,7 +165,16 @@ class Scene:
         mx, my = src[:, 0].reshape(h, w), src[:, 1].reshape(h, w)
         obj = cv2.remap(self.texture, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REFLECT)
         cover = cv2.remap(self.mask, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT)
+        if pose.shade is not None:
+            cx, cy, r, g = pose.shade
+            obj = obj * (1.0 + (g - 1.0) * _spot(h, w, cx, cy, r))[:, :, None]
+        if pose.glint is not None:
+            cx, cy, r, level = pose.glint
+            obj = obj + level * _spot(h, w, cx, cy, r)[:, :, None]
         frame = obj * cover[:, :, None] + self.backdrop * (1.0 - cover[:, :, None])
+        frame = frame * np.asarray(pose.channel_gain, np.float32)
+        if pose.blur is not None:
+            frame = _motion_blur(frame, *pose.blur)
         frame = pose.contrast * frame + pose.brightness
         if pose.occluder is not None:
             x0, y0, x1, y1 = (int(round(v)) for v in pose.occluder)
@@ -160,6 +183,22 @@ class Scene:
             rng = rng or np.random.default_rng(0)
             frame = frame + rng.normal(0, noise, frame.shape).astype(np.float32)
         return np.clip(frame, 0, 1).astype(np.float32)
+
+
+def _spot(h: int, w: int, cx: float, cy: float, radius: float) -> np.ndarray:
+    """A Gaussian spot (h, w) float32 of peak 1."""
+    ys, xs = np.mgrid[0:h, 0:w].astype(np.float32)
+    return np.exp(-((xs - cx) ** 2 + (ys - cy) ** 2) / (2.0 * radius**2)).astype(np.float32)
+
+
+def _motion_blur(frame: np.ndarray, dx: float, dy: float) -> np.ndarray:
+    """The frame averaged along a straight motion of (dx, dy) pixels."""
+    steps = max(2, int(np.ceil(np.hypot(dx, dy))))
+    k = 2 * steps + 1
+    kernel = np.zeros((k, k), np.float32)
+    for t in np.linspace(-0.5, 0.5, 2 * steps + 1):
+        kernel[int(round(steps + t * dy)), int(round(steps + t * dx))] += 1.0
+    return cv2.filter2D(frame, -1, kernel / kernel.sum(), borderType=cv2.BORDER_REFLECT)
 
 
 def ellipse_contour(centre, rx: float, ry: float, n: int = 64, angle: float = 0.0) -> np.ndarray:
@@ -211,6 +250,9 @@ SCENARIOS = (
     "noise",
     "exit",
     "mixed",
+    "shading",
+    "exposure",
+    "jumps",
 )
 
 
@@ -226,6 +268,11 @@ def scenario_poses(name: str, scene: Scene, frames: int = 48, size=(320, 240)) -
     noise      sensor noise of 0.05 (13 grey levels) with slow motion
     exit       the object leaves the frame entirely and comes back
     mixed      translation, rotation, scale and bending at once
+    shading    bending under a lamp: a soft shadow and a specular glint sweep across it
+    exposure   auto exposure and white balance: steps of x1.5 and x0.7, channels drifting
+               by +-15%, with slow motion
+    jumps      a cheap camera at 8 fps: 6-9% of the frame width and up to 12 degrees
+               between frames, reversing, with motion blur
     """
     w, h = size
     t = np.arange(frames) / max(frames - 1, 1)
@@ -293,6 +340,46 @@ def scenario_poses(name: str, scene: Scene, frames: int = 48, size=(320, 240)) -
                         "bend-x": 0.1 * np.sin(4 * np.pi * s),
                         "shear": 0.05 * np.sin(2 * np.pi * s),
                     },
+                )
+            )
+        elif name == "shading":
+            length = scene.length
+            c = scene.centre
+            sweep = -2.0 + 4.0 * s
+            poses.append(
+                Pose(
+                    tx=5 * np.sin(2 * np.pi * s),
+                    deform={"bend-x": 0.12 * np.sin(2 * np.pi * s)},
+                    shade=(c[0] + sweep * length, c[1] - 0.3 * length, 0.7 * length, 0.45),
+                    glint=(c[0] - sweep * length, c[1] + 0.4 * length, 0.3 * length, 0.6),
+                )
+            )
+        elif name == "exposure":
+            step = 1.0 if s < 1 / 3 else (1.5 if s < 2 / 3 else 0.7)
+            drift = 0.15 * np.sin(2 * np.pi * s)
+            poses.append(
+                Pose(
+                    tx=8 * np.sin(2 * np.pi * s),
+                    theta=0.15 * np.sin(2 * np.pi * s),
+                    channel_gain=(step * (1 + drift), step, step * (1 - drift)),
+                )
+            )
+        elif name == "jumps":
+            # Position on a zigzag: each frame jumps 6-9% of the width, turning.
+            step = w * (0.06 + 0.03 * np.sin(5.0 * i))
+            phase = np.floor(i / 3) % 2  # three jumps one way, three back
+            prev = poses[-1] if poses else Pose()
+            tx = prev.tx + (step if phase == 0 else -step) if i else 0.0
+            ty = 0.2 * h * np.sin(0.9 * i) if i else 0.0
+            theta = 0.2 * np.sin(0.7 * i) if i else 0.0
+            blur = None if not i else (0.3 * (tx - prev.tx), 0.3 * (ty - prev.ty))
+            poses.append(
+                Pose(
+                    tx=tx,
+                    ty=ty,
+                    theta=theta,
+                    deform={"bend-x": 0.08 * np.sin(0.5 * i)},
+                    blur=blur,
                 )
             )
         else:

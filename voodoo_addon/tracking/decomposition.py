@@ -22,6 +22,9 @@ from .norms import RobustNorm
 from .params import ParamLayout, compose
 from .warp import WarpBackend
 
+#: Weight of the pull of hidden triangles back to their rest shape, relative to the pull of
+#: their pixels if they were seen (see :func:`solve`).
+REOPEN = 0.3
 #: An update that changes a lighting term by more than this is not converged.
 PHOTOMETRIC_TOLERANCE = 2e-3
 
@@ -49,6 +52,8 @@ class Solver:
         ``gamma' psi_j^2`` (zero for unregularised parameters).
     modal : (p,) bool
         Which active parameters are elastic modes.
+    modal_gram : (t, q, q) float64
+        ``triangle_gram`` restricted to the modes (q of them).
     """
 
     active: np.ndarray
@@ -59,6 +64,7 @@ class Solver:
     penalty: np.ndarray
     reg: np.ndarray
     modal: np.ndarray
+    modal_gram: np.ndarray
 
 
 def build_solver(
@@ -94,6 +100,7 @@ def build_solver(
         if lay.modes.start <= k < lay.modes.stop:
             psi2[j] = penalties[k - lay.modes.start]
     gam = gamma * rows
+    modal = (active >= lay.modes.start) & (active < lay.modes.stop)
     # Collapsed basis (least-squares slope over the steps) for the weighted solve.
     denom = (nmat**2).sum(axis=1)  # (p,)
     jac = bbar @ nmat.T / denom
@@ -132,7 +139,8 @@ def build_solver(
         triangle_gram=tri_gram,
         penalty=penalty,
         reg=gam * psi2,
-        modal=(active >= lay.modes.start) & (active < lay.modes.stop),
+        modal=modal,
+        modal_gram=np.ascontiguousarray(tri_gram[:, modal][:, :, modal]),
     )
 
 
@@ -366,9 +374,12 @@ def solve(
     per-triangle Gram matrices minus the rows of the dropped pixels of kept triangles.
 
     A triangle that is not seen keeps its local shape: its Gram matrix, restricted to the
-    modes, stays in the system as a pull of the modes towards ``anchor`` (the start of
-    this level's fit), so a covered or off-picture part follows the similarity and the
-    seen parts' bending instead of drifting where no pixel holds it.
+    modes, stays in the system as a pull of the modes towards ``anchor`` (the last frame's
+    shape), so a covered or off-picture part follows the similarity and the seen parts'
+    bending instead of drifting where no pixel holds it. A *hidden* triangle (compressed
+    by a surface turning away) is pulled towards its rest shape instead, by
+    :data:`REOPEN` of that weight: where the surface really is folded, the seen parts
+    around the fold hold it; where it has come back, nothing does, and it opens again.
     """
     if not ev.weighted:
         return solver.update @ ev.dbar.ravel() - solver.prior @ a_act
@@ -381,11 +392,18 @@ def solve(
     rhs = solver.jacobian.T @ (ev.dbar * ev.use[:, None]).ravel()
     rhs = rhs - solver.reg * a_act
     unseen = 1.0 - ev.triangle_weight
-    if anchor is not None and solver.modal.any() and unseen.any():
-        m = solver.modal
-        hold = np.tensordot(unseen, solver.triangle_gram[:, m][:, :, m], axes=1)
+    m = solver.modal
+    if anchor is not None and m.any() and unseen.any():
+        hidden = ev.hidden
+        held = unseen if hidden is None else unseen * ~hidden
+        hold = np.tensordot(held, solver.modal_gram, axes=1)
+        target = hold @ (anchor[m] - a_act[m])
+        if hidden is not None:
+            reopen = REOPEN * np.tensordot(hidden.astype(np.float64), solver.modal_gram, axes=1)
+            hold = hold + reopen
+            target = target - reopen @ a_act[m]
         gram[np.ix_(m, m)] += hold
-        rhs[m] += hold @ (anchor[m] - a_act[m])
+        rhs[m] += target
     try:
         return np.linalg.solve(gram + solver.penalty, rhs)
     except np.linalg.LinAlgError:

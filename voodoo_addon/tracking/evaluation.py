@@ -63,6 +63,8 @@ class Evaluation:
         Some pixels are left out (``use`` is not all true).
     occluded : (t,) bool or None
         The triangles this evaluation found occluded (None when it did not look).
+    hidden : (t,) bool or None
+        The triangles left out as hidden (compressed), as given.
     """
 
     samples: np.ndarray
@@ -73,6 +75,7 @@ class Evaluation:
     residual: float
     weighted: bool
     occluded_triangles: np.ndarray | None = None
+    hidden: np.ndarray | None = None
 
     @property
     def occluded_share(self) -> float:
@@ -196,7 +199,7 @@ def evaluate(
     # come and go.
     capped = np.minimum(loss, LOSS_CAP * _ONES3.sum())
     residual = float(capped.mean() if mask is level.all_valid else capped[mask].mean())
-    return Evaluation(samples, dbar, valid, use, weight, residual, weighted, detected)
+    return Evaluation(samples, dbar, valid, use, weight, residual, weighted, detected, hidden)
 
 
 def _difference(level: Level, layout: ParamLayout, a: np.ndarray, samples: np.ndarray):

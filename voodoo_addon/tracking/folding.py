@@ -113,23 +113,23 @@ class FoldGuard:
 
 
 def _first_crossing(f0: np.ndarray, f1: np.ndarray, f2: np.ndarray) -> float:
-    """Smallest ``tau`` in (0, 1] where some ``f0 + f1 tau + f2 tau^2`` reaches 0 (else 1).
+    """Smallest ``tau`` in [0, 1] where some ``f0 + f1 tau + f2 tau^2`` reaches 0 (else 1).
 
-    ``f0 >= 0`` (up to rounding) for every entry.
+    ``f0 >= 0`` (up to rounding) for every entry. The roots are taken in the form that
+    does not cancel (``q = -(f1 + sign(f1) sqrt(disc)) / 2``, roots ``q / f2`` and
+    ``f0 / q``), so a triangle sitting on its bound is seen leaving it at once.
     """
     f0 = np.maximum(f0, 0.0)
-    lin = np.abs(f2) < 1e-12
-    # Linear: root at -f0 / f1 when f1 < 0.
-    t_lin = np.divide(-f0, f1, out=np.full_like(f0, np.inf), where=f1 < 0)
+    # On the bound and heading out: no step at all.
+    if np.any((f0 <= 1e-12 * (1.0 + np.abs(f1))) & ((f1 < 0) | ((f1 == 0) & (f2 < 0)))):
+        return 0.0
     disc = f1 * f1 - 4.0 * f2 * f0
-    sq = np.sqrt(np.maximum(disc, 0.0))
-    # Both roots of the quadratic; keep the smallest positive one that exists.
-    two_a = np.where(lin, 1.0, 2.0 * f2)
-    r1 = (-f1 - sq) / two_a
-    r2 = (-f1 + sq) / two_a
-    r1 = np.where((disc >= 0) & (r1 > 0), r1, np.inf)
-    r2 = np.where((disc >= 0) & (r2 > 0), r2, np.inf)
-    t_quad = np.minimum(r1, r2)
-    tau = np.where(lin, t_lin, t_quad)
-    tau = tau[np.isfinite(tau)]
-    return float(min(1.0, tau.min())) if len(tau) else 1.0
+    real = disc >= 0
+    sq = np.sqrt(np.where(real, disc, 0.0))
+    q = -0.5 * (f1 + np.where(f1 >= 0, sq, -sq))
+    r1 = np.divide(q, f2, out=np.full_like(q, np.inf), where=np.abs(f2) > 1e-300)
+    r2 = np.divide(f0, q, out=np.full_like(q, np.inf), where=np.abs(q) > 1e-300)
+    r1 = np.where(real & (r1 > 0), r1, np.inf)
+    r2 = np.where(real & (r2 > 0), r2, np.inf)
+    tau = min(float(r1.min(initial=np.inf)), float(r2.min(initial=np.inf)))
+    return min(1.0, tau)

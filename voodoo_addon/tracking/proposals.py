@@ -81,7 +81,7 @@ class PointFit:
         target: np.ndarray,
         sim: np.ndarray,
         prior: np.ndarray,
-        strength: float = 1e-3,
+        strength: float = 0.3,
     ) -> np.ndarray:
         """Parameters with similarity ``sim`` whose points ``idx`` land nearest ``target``.
 

@@ -1,0 +1,69 @@
+"""Start poses from followed points and from features, when the prediction misses."""
+
+import numpy as np
+import pytest
+
+from voodoo_addon.blob import build_blob
+from voodoo_addon.devtools.synthetic import Pose, foam_scene
+from voodoo_addon.tracking.params import ParamLayout, node_positions
+from voodoo_addon.tracking.proposals import FeatureMatcher, MotionProposal, PointFit
+
+SIZE = (320, 240)
+
+
+@pytest.fixture(scope="module")
+def scene_blob():
+    scene, contour = foam_scene(*SIZE, 6000)
+    rest = scene.render(Pose(), noise=0.005, rng=np.random.default_rng(0))
+    blob = build_blob(rest, contour)
+    layout = ParamLayout(tuple(str(s) for s in blob.labels), "channel")
+    return scene, blob, layout, rest
+
+
+def _nodes(blob, layout, a):
+    return node_positions(a, layout, blob.vertices, blob.modes, blob.centre)
+
+
+def test_point_fit_recovers_parameters_from_exact_points(scene_blob):
+    _, blob, layout, _ = scene_blob
+    rng = np.random.default_rng(1)
+    rest = blob.pixel_coords[rng.choice(blob.n_pixels, 60, replace=False)]
+    fit = PointFit(blob, layout, rest)
+    truth = layout.identity()
+    truth[:4] = (12.0, -7.0, 0.3, 0.1)
+    truth[layout.modes][:3] = (3.0, -2.0, 1.5)
+    truth[layout.modes.start : layout.modes.start + 3] = (3.0, -2.0, 1.5)
+    seen = fit.positions(truth)
+    got = fit.fit(np.arange(60), seen, truth[:4], layout.identity(), strength=1e-9)
+    err = np.linalg.norm(_nodes(blob, layout, got) - _nodes(blob, layout, truth), axis=1)
+    assert err.max() < 0.05
+
+
+@pytest.mark.parametrize("jump", [(30.0, 0.0, 0.0), (-25.0, 20.0, 0.2), (35.0, -10.0, -0.25)])
+def test_points_followed_from_the_last_frame_bridge_a_big_jump(scene_blob, jump):
+    scene, blob, layout, rest = scene_blob
+    pose = Pose(tx=jump[0], ty=jump[1], theta=jump[2], deform={"bend-x": 0.06})
+    frame = scene.render(pose, noise=0.005, rng=np.random.default_rng(2))
+    proposal = MotionProposal(blob, layout)
+    assert len(proposal) >= 40
+    a = proposal.propose(rest, frame, layout.identity())
+    assert a is not None
+    truth = scene.forward(pose, blob.vertices)
+    err = np.linalg.norm(_nodes(blob, layout, a) - truth, axis=1)
+    assert err.mean() < 2.5, err.mean()  # within the pyramid's reach: the fit finishes it
+
+
+def test_no_proposal_when_the_points_cannot_be_followed(scene_blob):
+    _, blob, layout, rest = scene_blob
+    noise = np.random.default_rng(3).uniform(0, 1, rest.shape).astype(np.float32)
+    assert MotionProposal(blob, layout).propose(rest, noise, layout.identity()) is None
+
+
+def test_features_find_a_turned_and_moved_blob(scene_blob):
+    scene, blob, layout, _ = scene_blob
+    pose = Pose(tx=-40.0, ty=25.0, theta=2.0)  # far and turned: no prediction would reach it
+    frame = scene.render(pose, noise=0.005, rng=np.random.default_rng(4))
+    guess = FeatureMatcher(blob, layout).guess(frame, layout.identity())
+    assert guess is not None
+    err = np.linalg.norm(_nodes(blob, layout, guess) - scene.forward(pose, blob.vertices), axis=1)
+    assert err.mean() < 3.0, err.mean()
