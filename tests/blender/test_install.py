@@ -73,4 +73,5 @@ def test_zip_installs_runs_on_bundled_wheels_and_uninstalls(tmp_path):
     assert not seen["enabled_after_disable"]
     assert Path(seen["repo_directory"]) == extensions / "user_default"
     assert not (extensions / "user_default" / "voodoo_dolls").exists()
-    assert not site_packages.exists() or not any(site_packages.iterdir())
+    left = sorted(p.name for p in site_packages.iterdir()) if site_packages.exists() else []
+    assert not left, left

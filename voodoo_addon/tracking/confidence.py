@@ -28,8 +28,9 @@ from .params import ParamLayout
 QUALITY_SAMPLES = 1500
 #: A triangle-channel needs this many pixels for its correlation to count.
 MIN_PIXELS = 6
-#: Below this fraction of the textured blob seen, the quality falls in proportion.
-FULL_VIEW = 0.5
+#: Below this fraction of the textured blob seen (on the picture, not turned away), the
+#: quality falls in proportion.
+FULL_VIEW = 0.6
 
 
 @dataclass(frozen=True)
@@ -39,12 +40,13 @@ class Quality:
     Attributes
     ----------
     value : float
-        In [0, 1]: texture-weighted mean local correlation of the seen triangles, times the
+        In [0, 1]: texture-weighted mean local correlation of the triangles on the picture
+        and not turned away (covered ones included), times the colour agreement and the
         view factor.
     correlation : float
         The mean local correlation alone, in [-1, 1].
     seen : float
-        Fraction of the textured blob compared (on the picture, not hidden, not occluded).
+        Fraction of the textured blob compared (on the picture, not turned away).
     triangles : (t,) float64
         Each triangle's correlation (NaN where not compared).
     """
@@ -69,6 +71,7 @@ class QualityMeter:
         n = len(level)
         self.step = max(1, n // QUALITY_SAMPLES)
         self.n_tri = level.n_triangles
+        self._triangle = level.triangle
         tri = level.triangle[:: self.step]
         t = level.template[:: self.step].astype(np.float64)  # (n', 3)
         self.channels = t.shape[1]
@@ -102,8 +105,12 @@ class QualityMeter:
             s = (s - b) / c
         s = s.ravel()
         t = self.t
-        if ev.weighted:
-            use = np.repeat(ev.use[:: self.step].astype(np.float64), self.channels)
+        # Every triangle on the picture and not turned away is judged -- the ones the fit
+        # left out as occluded too: a fit that explains half of the blob and calls the
+        # other half covered has not shown that it is right.
+        compared = ev.valid if ev.hidden is None else ev.valid & ~ev.hidden[self._triangle]
+        if compared is not ev.valid or not ev.valid.all():
+            use = np.repeat(compared[:: self.step].astype(np.float64), self.channels)
             count, mt, vt = self._stats(use, t)
             s = s * use
         else:

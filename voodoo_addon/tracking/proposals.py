@@ -28,6 +28,8 @@ MIN_POINTS = 8
 FB_ERROR = 1.5
 #: Points followed from frame to frame.
 MAX_POINTS = 160
+#: Features are searched for in at most this many pixels along the longer side.
+SEARCH_SIDE = 400
 
 
 def grey8(image: np.ndarray) -> np.ndarray:
@@ -256,8 +258,11 @@ class FeatureMatcher:
         pts += self.blob.texture_origin
         self._template = (pts, desc, PointFit(self.blob, self.layout, pts) if len(pts) else None)
 
-    def guess(self, frame: np.ndarray, near: np.ndarray):
+    def guess(self, frame: np.ndarray, near: np.ndarray, box=None):
         """Parameters with the similarity found in ``frame``, the modes fitted to the matches.
+
+        ``box`` (x0, y0, x1, y1) limits the search to a region of the frame (a blob that is
+        not lost is near where it was); by default the whole frame is searched.
 
         Returns
         -------
@@ -269,7 +274,16 @@ class FeatureMatcher:
         pts_t, desc_t, fit = self._template
         if desc_t is None or fit is None or len(pts_t) < MIN_POINTS:
             return None
-        kp, desc = self._detector.detectAndCompute(grey8(frame), None)
+        x0 = y0 = 0
+        if box is not None:
+            x0, y0, x1, y1 = (int(v) for v in box)
+            frame = frame[y0:y1, x0:x1]
+        grey = grey8(frame)
+        # SIFT is scale-invariant: a large region is searched at a lower resolution.
+        shrink = min(1.0, SEARCH_SIDE / max(grey.shape))
+        if shrink < 1.0:
+            grey = cv2.resize(grey, None, fx=shrink, fy=shrink, interpolation=cv2.INTER_AREA)
+        kp, desc = self._detector.detectAndCompute(grey, None)
         if desc is None or len(kp) < MIN_POINTS:
             return None
         pairs = cv2.BFMatcher(cv2.NORM_L2).knnMatch(desc_t, desc, k=2)
@@ -278,6 +292,7 @@ class FeatureMatcher:
             return None
         idx = np.array([m.queryIdx for m in good])
         dst = np.array([kp[m.trainIdx].pt for m in good], dtype=np.float64)
+        dst = (dst + 0.5) / shrink - 0.5 + (x0, y0)
         mat, inliers = cv2.estimateAffinePartial2D(
             pts_t[idx].astype(np.float32),
             dst.astype(np.float32),

@@ -8,10 +8,10 @@ finding it again -- and leaves the registration of one frame to
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass, field
 
 import numpy as np
-from threadpoolctl import ThreadpoolController
 
 from ..blob import ActiveBlob
 from ..errors import VoodooError
@@ -38,6 +38,14 @@ def single_blas_thread():
     if _threads is None:
         import scipy.linalg  # noqa: F401 - loads SciPy's own BLAS, so that it is limited too
 
+        # threadpoolctl is a one-file module: the bytecode Python would write beside it in
+        # the extension's site-packages is not in its wheel's record, so Blender would leave
+        # it behind on uninstall. Import it without writing any.
+        keep, sys.dont_write_bytecode = sys.dont_write_bytecode, True
+        try:
+            from threadpoolctl import ThreadpoolController
+        finally:
+            sys.dont_write_bytecode = keep
         _threads = ThreadpoolController()
     return _threads.limit(limits=1, user_api="blas")
 
@@ -104,7 +112,7 @@ class TrackerOptions:
     lost_below: float = 0.35
     reacquire_above: float = 0.5
     predict: bool = True
-    propose_below: float = 0.7
+    propose_below: float = 0.6
     features: bool = True
 
 
@@ -258,14 +266,20 @@ class Tracker:
             seeds = [pred] if np.allclose(pred, self.state) else [pred, self.state]
             fit = self._fit(frame, seeds, wide=False)
         its = fit.iterations
-        # The prediction fits badly: the motion of textured points since the last frame.
-        if not was_lost and fit.confidence < opt.propose_below and self._previous is not None:
-            guess = self._motion.propose(self._previous, frame, self.state)
-            if guess is not None:
-                fit, its = self._better(fit, self._fit(frame, [self._keep_frozen(guess)]), its)
+        # The prediction fits badly: where textured points went since the last frame, then
+        # where the template's features are in this one.
+        tried_features = False
+        if not was_lost and fit.confidence < opt.propose_below:
+            for propose in (self._motion_start, self._feature_start):
+                if fit.confidence >= opt.propose_below:
+                    break
+                tried_features = propose == self._feature_start
+                guess = propose(frame)
+                if guess is not None:
+                    fit, its = self._better(fit, self._fit(frame, [guess]), its)
         # Before giving up: a wide search from the last good pose, then from features.
         for fallback in (self._wide_start, self._feature_start):
-            if fit.confidence >= need:
+            if fit.confidence >= need or (tried_features and fallback == self._feature_start):
                 break
             start2 = fallback(frame, was_lost)
             if start2 is not None:
@@ -321,15 +335,35 @@ class Tracker:
         guess[frozen] = self.state[frozen]
         return guess
 
+    def _motion_start(self, frame, was_lost=False):
+        """A pose from the points followed since the previous frame, frozen parameters kept."""
+        if self._previous is None:
+            return None
+        guess = self._motion.propose(self._previous, frame, self.state)
+        return None if guess is None else self._keep_frozen(guess)
+
     def _wide_start(self, frame, was_lost):
         """The last good pose (already searched wide when the blob was lost)."""
         return None if was_lost else self.last_good
 
-    def _feature_start(self, frame, was_lost):
-        """A pose from SIFT matches against the template, frozen parameters kept."""
+    def _feature_start(self, frame, was_lost=False):
+        """A pose from SIFT matches against the template, frozen parameters kept.
+
+        A blob that is not lost is searched for around where it was (twice its size).
+        """
         if self._matcher is None:
             return None
-        guess = self._matcher.guess(frame, self.last_good)
+        box = None
+        if not was_lost:
+            nodes = self.nodes(self.last_good)
+            lo, hi = nodes.min(axis=0), nodes.max(axis=0)
+            pad = 0.5 * (hi - lo) + 32.0
+            h, w = frame.shape[:2]
+            x0, y0 = np.maximum(np.floor(lo - pad), 0).astype(int)
+            x1, y1 = np.minimum(np.ceil(hi + pad), [w, h]).astype(int)
+            if x1 - x0 >= 32 and y1 - y0 >= 32:
+                box = (x0, y0, x1, y1)
+        guess = self._matcher.guess(frame, self.last_good, box)
         if guess is not None:
             frozen = list(self.frozen)
             guess[frozen] = self.last_good[frozen]
