@@ -139,17 +139,35 @@ def cmd_segment(args) -> int:
 
 
 def cmd_bench(args) -> int:
-    from .devtools.bench import run_bench
-
-    report = run_bench(quick=args.quick, progress=not args.json)
+    try:
+        from .devtools import report as bench
+    except ImportError:
+        raise VoodooError(
+            "The benchmark is a development tool: run it from a checkout of the repository."
+        ) from None
+    parts = bench.PARTS if not args.only else tuple(args.only)
+    unknown = sorted(set(parts) - set(bench.PARTS))
+    if unknown:
+        raise VoodooError(f"Unknown part {unknown[0]!r}; pick from {', '.join(bench.PARTS)}.")
+    if args.quick:
+        parts = ("speed",)
+    try:
+        report = bench.run(parts, quick=args.quick)
+    except RuntimeError as exc:
+        raise VoodooError(f"The benchmark failed: {exc}") from None
     if args.json:
         print(json.dumps(report))
+    else:
+        bench.print_report(report)
+    if args.write:
+        written = bench.write(args.write, report)
+        print(f"bench: {', '.join(written)} written into {args.write}", file=sys.stderr)
     return 0
 
 
 def cmd_synth(args) -> int:
     from .contour import save_contour_json
-    from .devtools.synthetic import write_scenario
+    from .devtools.scenarios import write_scenario
 
     contour = write_scenario(args.scenario, args.out, frames=args.frames, size=tuple(args.size))
     if args.contour:
@@ -201,9 +219,13 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--preview", help="PNG with the outline drawn")
     s.set_defaults(func=cmd_segment)
 
-    e = sub.add_parser("bench", help="tracking speed and accuracy, single-threaded")
+    e = sub.add_parser(
+        "bench", help="speed, accuracy, the clip comparison with KLT and DIS (development)"
+    )
     e.add_argument("--json", action="store_true", help="print one JSON line")
-    e.add_argument("--quick", action="store_true", help="short sequences (smoke test)")
+    e.add_argument("--quick", action="store_true", help="short synthetic sequences only")
+    e.add_argument("--only", nargs="+", help="parts: speed clips calibration hd")
+    e.add_argument("--write", metavar="FILE", help="put the tables into FILE (BENCHMARKS.md)")
     e.set_defaults(func=cmd_bench)
 
     y = sub.add_parser("synth", help="write a synthetic take with known motion")
@@ -236,7 +258,7 @@ def main(argv=None) -> int:
     if args.command == "track" and not (args.contour or args.blob):
         print("error: track needs --contour (or --blob)", file=sys.stderr)
         return 2
-    from .tracking.tracker import single_blas_thread
+    from .tracking.threads import single_blas_thread
 
     try:
         with single_blas_thread():  # small linear algebra: threads only spin (see there)

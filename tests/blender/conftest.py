@@ -64,7 +64,8 @@ def sub(addon):
 def clip_file():
     """A short lossless synthetic take (bending, turning doll) and its outline on frame 0."""
     sys.path.insert(0, str(ROOT))
-    from voodoo_addon.devtools.synthetic import scenario_take, write_frames
+    from voodoo_addon.devtools.scenarios import scenario_take
+    from voodoo_addon.devtools.synthetic import write_frames
 
     frames, contour, truth = scenario_take("mixed", frames=20, size=(320, 240))
     path = _scratch / "mixed.avi"

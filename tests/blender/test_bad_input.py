@@ -134,7 +134,8 @@ def test_target_deleted_during_a_take(prepared, sub, make):
 
 def test_clip_that_does_not_match_the_blob(prepared, tmp_path):
     """A clip of another size than the blob's capture frame is refused before tracking."""
-    from voodoo_addon.devtools.synthetic import scenario_take, write_frames
+    from voodoo_addon.devtools.scenarios import scenario_take
+    from voodoo_addon.devtools.synthetic import write_frames
 
     frames, _, _ = scenario_take("bend", frames=4, size=(256, 192))
     path = tmp_path / "other.avi"
@@ -158,7 +159,8 @@ def test_apply_without_take(prepared, make):
 
 def test_lost_frames_are_not_keyed(ctx, make, tmp_path):
     """A take where the doll leaves the picture: those frames get no keys and are reported."""
-    from voodoo_addon.devtools.synthetic import scenario_take, write_frames
+    from voodoo_addon.devtools.scenarios import scenario_take
+    from voodoo_addon.devtools.synthetic import write_frames
 
     frames, contour, _ = scenario_take("exit", frames=24, size=(320, 240))
     path = tmp_path / "exit.avi"

@@ -51,7 +51,8 @@ def test_low_quality_stretches_get_one_marker_each(ctx, sub):
 
 
 def test_a_take_that_leaves_the_picture_is_marked_and_reported(ctx, make, tmp_path, sub):
-    from voodoo_addon.devtools.synthetic import scenario_take, write_frames
+    from voodoo_addon.devtools.scenarios import scenario_take
+    from voodoo_addon.devtools.synthetic import write_frames
 
     frames, contour, _ = scenario_take("exit", frames=24, size=(320, 240))
     path = tmp_path / "exit.avi"

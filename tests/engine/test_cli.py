@@ -15,7 +15,8 @@ import pytest
 
 from voodoo_addon.blob import load_blob
 from voodoo_addon.contour import save_contour_json
-from voodoo_addon.devtools.synthetic import scenario_take, write_frames
+from voodoo_addon.devtools.scenarios import scenario_take
+from voodoo_addon.devtools.synthetic import write_frames
 from voodoo_addon.images import write_image
 from voodoo_addon.tracking.params import SIMILARITY
 

@@ -37,7 +37,7 @@ for name in names:
     importlib.import_module(name)
 
 from voodoo_addon.blob import BlobOptions, build_blob
-from voodoo_addon.devtools.synthetic import scenario_take
+from voodoo_addon.devtools.scenarios import scenario_take
 from voodoo_addon.tracking import Tracker
 
 frames, contour, truth = scenario_take("translate", frames=3, size=(160, 120), blob_pixels=2500)

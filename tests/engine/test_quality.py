@@ -7,7 +7,8 @@ import pytest
 
 from voodoo_addon.blob import build_blob
 from voodoo_addon.cli import main
-from voodoo_addon.devtools.synthetic import Pose, foam_scene, scenario_take, write_frames
+from voodoo_addon.devtools.scenarios import scenario_take
+from voodoo_addon.devtools.synthetic import Pose, foam_scene, write_frames
 from voodoo_addon.take import Take, save_take
 from voodoo_addon.tracking import Tracker
 from voodoo_addon.tracking.quality import folded_triangles, score_track

@@ -10,7 +10,8 @@ import pytest
 
 from voodoo_addon.blob import build_blob
 from voodoo_addon.devtools.clips import clip_suite, ratios, run_clip
-from voodoo_addon.devtools.synthetic import Pose, foam_scene, scenario_take
+from voodoo_addon.devtools.scenarios import scenario_take
+from voodoo_addon.devtools.synthetic import Pose, foam_scene
 from voodoo_addon.tracking import Tracker
 from voodoo_addon.tracking.quality import folded_triangles
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from voodoo_addon.blob import build_blob
-from voodoo_addon.devtools.synthetic import scenario_take
+from voodoo_addon.devtools.scenarios import scenario_take
 from voodoo_addon.errors import VoodooError
 from voodoo_addon.sources import ArraySource
 from voodoo_addon.take import ProgressBar, Take, load_take, save_take, track_source

@@ -12,7 +12,8 @@ import pytest
 import skimage.data
 
 from voodoo_addon.blob import build_blob
-from voodoo_addon.devtools.synthetic import Pose, foam_scene, scenario_poses, scenario_take
+from voodoo_addon.devtools.scenarios import scenario_poses, scenario_take
+from voodoo_addon.devtools.synthetic import Pose, foam_scene
 from voodoo_addon.errors import VoodooError
 from voodoo_addon.tracking import Tracker, TrackerOptions, TrackResult
 

@@ -1,17 +1,14 @@
-"""The benchmark (``python -m voodoo_addon bench``): tracking speed and accuracy.
+"""Tracking speed and accuracy on synthetic takes and the sample take (part of ``bench``).
 
-Runs single-threaded (one BLAS/OpenMP/OpenCV thread; the command re-executes itself with the
-thread variables set). For each configuration a synthetic nonrigid take with known motion is
-rendered first, then tracked; the time per frame excludes rendering and decoding. The same
-frames are tracked by OpenCV's pyramidal Lucas-Kanade (KLT) on the mesh nodes, the tool a user
-would reach for instead.
+Single-threaded (see :mod:`.report`). For each configuration a synthetic nonrigid take with
+known motion is rendered first, then tracked; the time per frame excludes rendering and
+decoding. The same frames are tracked by OpenCV's pyramidal Lucas-Kanade (KLT) on the mesh
+nodes, the tool a user would reach for instead.
 """
 
 from __future__ import annotations
 
 import os
-import subprocess
-import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -22,8 +19,6 @@ import numpy as np
 from ..blob import BlobOptions, build_blob
 from ..tracking import Tracker
 from .synthetic import Pose, foam_scene
-
-THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMEXPR_NUM_THREADS")
 
 
 @dataclass(frozen=True)
@@ -212,35 +207,15 @@ def _track_and_compare(images, contour, options, truth, name, kind, target, pape
     }
 
 
-def run_bench(quick: bool = False, progress: bool = True) -> dict:
-    """Run every configuration (re-executing single-threaded if needed); returns the report."""
-    if os.environ.get("VOODOO_BENCH_CHILD") != "1":
-        env = dict(os.environ, VOODOO_BENCH_CHILD="1", **{v: "1" for v in THREAD_VARS})
-        cmd = [sys.executable, "-m", "voodoo_addon", "bench", "--json"] + (
-            ["--quick"] if quick else []
-        )
-        out = subprocess.run(cmd, env=env, capture_output=True, text=True, check=False)
-        if out.returncode != 0:
-            raise RuntimeError(
-                out.stderr.strip().splitlines()[-1] if out.stderr else "bench failed"
-            )
-        import json
-
-        report = json.loads(out.stdout.strip().splitlines()[-1])
-        if progress:
-            print(format_report(report))
-        return report
+def run_speed(quick: bool = False) -> list[dict]:
+    """The speed configurations (and, unless quick, the sample take), single-threaded."""
     cv2.setNumThreads(1)
     frames = 24 if quick else 120
     rows = [run_config(cfg, kind, frames) for cfg in CONFIGS for kind in ("squeeze", "bend")]
     sample = None if quick else run_sample_take()
     if sample is not None:
         rows.append(sample)
-    return {
-        "machine": _machine(),
-        "threads": 1,
-        "rows": rows,
-    }
+    return rows
 
 
 def _machine() -> str:
@@ -261,23 +236,26 @@ def _machine() -> str:
     )
 
 
-def format_report(report: dict) -> str:
-    """The report as a Markdown table."""
+def machine() -> str:
+    """The machine a report was measured on, in one line."""
+    return _machine()
+
+
+def format_speed(rows: list[dict]) -> str:
+    """The speed rows as a Markdown table (and the build times)."""
     lines = [
-        f"Machine: {report['machine']} (1 thread)",
-        "",
         "| configuration | sequence | px | nodes | fps (target) | iters/frame | error px "
         "| KLT fps | KLT error px |",
         "|---|---|---|---|---|---|---|---|---|",
     ]
-    for r in report["rows"]:
+    for r in rows:
         ok = "" if r["fps"] >= r["target_fps"] else " **missed**"
         lines.append(
             f"| {r['config']} | {r['sequence']} | {r['pixels']} | {r['nodes']} | "
             f"{r['fps']:.0f} ({r['target_fps']:.0f}){ok} | {r['iterations']:.2f} | "
             f"{r['error_px']:.3f} | {r['klt_fps']:.0f} | {r['klt_error_px']:.3f} |"
         )
-    builds = {r["config"]: (r["build_s"], r["precompute_s"]) for r in report["rows"]}
+    builds = {r["config"]: (r["build_s"], r["precompute_s"]) for r in rows}
     lines.append("")
     for name, (b, p) in builds.items():
         lines.append(

@@ -3,10 +3,11 @@
 :class:`DifferenceDecomposition` is the per-level algorithm: given a picture, a start and the
 parameters left free, it iterates *warp the picture back onto the template, compare, solve
 for the update* until the robust error stops improving, and returns a :class:`LevelFit`.
-Everything that depends only on the template -- the basis of difference images, its
-Eq. 16 transform and regularised pseudo-inverse, per-triangle Gram matrices -- is computed once
-per set of free parameters (:class:`Solver`); an iteration is one warp, one elementwise
-transform and one small matrix-vector product.
+Everything that depends only on the template is computed once per set of free parameters
+(:class:`~.solver.Solver`); an iteration is one warp and comparison
+(:func:`~.evaluation.evaluate`), one elementwise transform and one small matrix-vector
+product (:func:`~.solver.solve`), with the update cut so that no triangle folds
+(:mod:`.folding`).
 """
 
 from __future__ import annotations
@@ -20,128 +21,11 @@ from .folding import HIDE_AREA, FoldGuard
 from .level import Level
 from .norms import RobustNorm
 from .params import ParamLayout, compose
+from .solver import Solver, build_solver, solve
 from .warp import WarpBackend
 
-#: Weight of the pull of hidden triangles back to their rest shape, relative to the pull of
-#: their pixels if they were seen (see :func:`solve`).
-REOPEN = 0.3
 #: An update that changes a lighting term by more than this is not converged.
 PHOTOMETRIC_TOLERANCE = 2e-3
-
-
-@dataclass(eq=False)
-class Solver:
-    """Precomputed least squares for one level and one set of active parameters.
-
-    Attributes
-    ----------
-    active : (p,) int64
-        Indices into the parameter vector.
-    update : (p, 3n) float32
-        ``N (Bbar^T Bbar + Gamma)^-1 Bbar^T``: maps the robust difference image to ``da``.
-    prior : (p, p) float64
-        ``N (Bbar^T Bbar + Gamma)^-1 gamma' N^T Psi^2``: the regularisation pull on ``a``.
-    jacobian : (3n, p) float32
-        Difference basis collapsed per parameter (least-squares slope over the four steps),
-        for the weighted solve used when parts of the blob are occluded or off the frame.
-    triangle_gram : (t, p, p) float64
-        ``J_k^T J_k`` of the pixels of every triangle.
-    penalty : (p, p) float64
-        ``gamma' Psi^2 + ridge`` for the weighted solve.
-    reg : (p,) float64
-        ``gamma' psi_j^2`` (zero for unregularised parameters).
-    modal : (p,) bool
-        Which active parameters are elastic modes.
-    modal_gram : (t, q, q) float64
-        ``triangle_gram`` restricted to the modes (q of them).
-    """
-
-    active: np.ndarray
-    update: np.ndarray
-    prior: np.ndarray
-    jacobian: np.ndarray
-    triangle_gram: np.ndarray
-    penalty: np.ndarray
-    reg: np.ndarray
-    modal: np.ndarray
-    modal_gram: np.ndarray
-
-
-def build_solver(
-    level: Level,
-    backend: WarpBackend,
-    active: np.ndarray,
-    norm: RobustNorm,
-    gamma: float,
-    penalties: np.ndarray,
-) -> Solver:
-    """The Eq. 14-16 least squares of ``level`` for the ``active`` parameters.
-
-    Parameters
-    ----------
-    level : Level
-    backend : WarpBackend
-        Warps the template to make the difference basis.
-    active : (p,) int64
-    norm : RobustNorm
-        Its Eq. 16 transform is applied to the basis.
-    gamma : float
-        Weight of the modal-stiffness prior (Eq. 10) against the mean robust error.
-    penalties : (k,) float64
-        ``psi_j^2`` of each elastic mode.
-    """
-    b, nmat = level.basis(backend, active)
-    bbar = norm.transform(b)  # Eq. 16
-    rows = bbar.shape[0]
-    # Regularisation (Eq. 10): gamma * mean robust error is matched by gamma' on the sums.
-    psi2 = np.zeros(len(active))
-    lay = level.layout
-    for j, k in enumerate(active):
-        if lay.modes.start <= k < lay.modes.stop:
-            psi2[j] = penalties[k - lay.modes.start]
-    gam = gamma * rows
-    modal = (active >= lay.modes.start) & (active < lay.modes.stop)
-    # Collapsed basis (least-squares slope over the steps) for the weighted solve.
-    denom = (nmat**2).sum(axis=1)  # (p,)
-    jac = bbar @ nmat.T / denom
-    # J_k^T J_k per triangle: the outer products of the rows, summed per triangle.
-    rows_tri = np.repeat(level.triangle, 3)
-    order = np.argsort(rows_tri, kind="stable")
-    bounds = np.searchsorted(rows_tri[order], np.arange(level.n_triangles + 1))
-    jsorted = jac[order]
-    tri_gram = np.zeros((level.n_triangles, len(active), len(active)))
-    for k in range(level.n_triangles):
-        jk = jsorted[bounds[k] : bounds[k + 1]]
-        if len(jk):
-            tri_gram[k] = jk.T @ jk
-    jgram = tri_gram.sum(axis=0)
-    scale = np.trace(jgram) / len(jgram)
-    # With lighting patches, a change of all three channels' brightness (or contrast) at
-    # once is a patch's grey bias (gain): invisible after the projection. Pin those sums.
-    gauge = np.zeros((len(active), len(active)))
-    if level.patches is not None:
-        for group in (lay.brightness, lay.contrast):
-            sel = np.isin(active, np.arange(lay.size)[group]).astype(float)
-            gauge += np.outer(sel, sel)
-    gauge *= 10.0 * scale
-    gram = bbar.T @ bbar
-    ridge = 1e-6 * np.trace(gram) / len(gram)
-    lhs = gram + nmat.T @ (gam * np.diag(psi2) + gauge) @ nmat + ridge * np.eye(len(gram))
-    inv_lhs = np.linalg.inv(lhs)
-    update = nmat @ inv_lhs @ bbar.T
-    prior = nmat @ inv_lhs @ (gam * nmat.T * psi2[None, :])
-    penalty = np.diag(gam * psi2) + gauge + 1e-6 * scale * np.eye(len(active))
-    return Solver(
-        active=active,
-        update=np.ascontiguousarray(update, dtype=np.float32),
-        prior=prior,
-        jacobian=np.ascontiguousarray(jac, dtype=np.float32),
-        triangle_gram=tri_gram,
-        penalty=penalty,
-        reg=gam * psi2,
-        modal=modal,
-        modal_gram=np.ascontiguousarray(tri_gram[:, modal][:, :, modal]),
-    )
 
 
 @dataclass(frozen=True)
@@ -361,50 +245,3 @@ class DifferenceDecomposition:
                 best_a = a
                 break
         return LevelFit(best_a, best, its)
-
-
-def solve(
-    solver: Solver, level: Level, ev: Evaluation, a_act: np.ndarray, anchor=None
-) -> np.ndarray:
-    """Parameter update (active parameters) from one evaluation.
-
-    Unweighted: the precomputed ``N B+`` of Eq. 14-15 with the Eq. 10 prior. Weighted
-    (occlusion, hidden triangles, blob partly off the picture): the same least squares on the
-    collapsed basis restricted to the used pixels, with the Gram matrix assembled from
-    per-triangle Gram matrices minus the rows of the dropped pixels of kept triangles.
-
-    A triangle that is not seen keeps its local shape: its Gram matrix, restricted to the
-    modes, stays in the system as a pull of the modes towards ``anchor`` (the last frame's
-    shape), so a covered or off-picture part follows the similarity and the seen parts'
-    bending instead of drifting where no pixel holds it. A *hidden* triangle (compressed
-    by a surface turning away) is pulled towards its rest shape instead, by
-    :data:`REOPEN` of that weight: where the surface really is folded, the seen parts
-    around the fold hold it; where it has come back, nothing does, and it opens again.
-    """
-    if not ev.weighted:
-        return solver.update @ ev.dbar.ravel() - solver.prior @ a_act
-    gram = np.tensordot(ev.triangle_weight, solver.triangle_gram, axes=1)
-    gone = np.nonzero((ev.triangle_weight[level.triangle] > 0) & ~ev.use)[0]
-    if len(gone):
-        rows = (3 * gone[:, None] + np.arange(3)).ravel()
-        jg = solver.jacobian[rows].astype(np.float64)
-        gram = gram - jg.T @ jg
-    rhs = solver.jacobian.T @ (ev.dbar * ev.use[:, None]).ravel()
-    rhs = rhs - solver.reg * a_act
-    unseen = 1.0 - ev.triangle_weight
-    m = solver.modal
-    if anchor is not None and m.any() and unseen.any():
-        hidden = ev.hidden
-        held = unseen if hidden is None else unseen * ~hidden
-        hold = np.tensordot(held, solver.modal_gram, axes=1)
-        target = hold @ (anchor[m] - a_act[m])
-        if hidden is not None:
-            reopen = REOPEN * np.tensordot(hidden.astype(np.float64), solver.modal_gram, axes=1)
-            hold = hold + reopen
-            target = target - reopen @ a_act[m]
-        gram[np.ix_(m, m)] += hold
-        rhs[m] += target
-    try:
-        return np.linalg.solve(gram + solver.penalty, rhs)
-    except np.linalg.LinAlgError:
-        return np.zeros_like(a_act)
