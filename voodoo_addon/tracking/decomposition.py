@@ -154,7 +154,7 @@ class DifferenceDecomposition:
         hid = self.guard.ratios(a[self.layout.modes]) < HIDE_AREA
         return hid if hid.any() else None
 
-    def evaluate(self, a, org, box, nodes=None, occluded=None) -> Evaluation | None:
+    def evaluate(self, a, org, box, nodes=None, occluded=None, template=None) -> Evaluation | None:
         """Warp, sample and compare at ``a`` on the bound picture."""
         return evaluate(
             self.level,
@@ -169,10 +169,20 @@ class DifferenceDecomposition:
             nodes,
             self.hidden(a),
             occluded,
+            template,
         )
 
     def fit(
-        self, image, a, origin, active, stopping: Stopping, cap=None, bail=None, anchor=None
+        self,
+        image,
+        a,
+        origin,
+        active,
+        stopping: Stopping,
+        cap=None,
+        bail=None,
+        anchor=None,
+        template=None,
     ) -> LevelFit:
         """Iterate difference decomposition from ``a`` on ``image``.
 
@@ -196,6 +206,8 @@ class DifferenceDecomposition:
         anchor : (P,) float64, optional
             The modes that triangles no pixel sees are held at (default ``a``): the last
             frame's shape, not an extrapolation of it.
+        template : (n, 3) float32, optional
+            What the pixels are compared with instead of the level's template.
         """
         solver = self.solver(active)  # may build a basis (which binds the template) first
         org, box = self.bind(image, origin)
@@ -210,7 +222,7 @@ class DifferenceDecomposition:
         full = level.index == 0  # level nodes are frame nodes: reuse them
         occluded = None  # found once per fit, on the first evaluation close enough to tell
         for _ in range(cap or stopping.max_iterations):
-            ev = self.evaluate(a, org, box, nodes_a if full else None, occluded)
+            ev = self.evaluate(a, org, box, nodes_a if full else None, occluded, template)
             its += 1
             if ev is None:
                 break

@@ -65,6 +65,8 @@ class Evaluation:
         The triangles this evaluation found occluded (None when it did not look).
     hidden : (t,) bool or None
         The triangles left out as hidden (compressed), as given.
+    difference : (n, 3) float32
+        Template minus frame with the lighting removed, before the robust transform.
     """
 
     samples: np.ndarray
@@ -76,6 +78,7 @@ class Evaluation:
     weighted: bool
     occluded_triangles: np.ndarray | None = None
     hidden: np.ndarray | None = None
+    difference: np.ndarray | None = None
 
     @property
     def occluded_share(self) -> float:
@@ -106,6 +109,7 @@ def evaluate(
     nodes: np.ndarray | None = None,
     hidden: np.ndarray | None = None,
     occluded: np.ndarray | None = None,
+    template: np.ndarray | None = None,
 ) -> Evaluation | None:
     """Warp, sample and compare at ``a``: the robust difference image (Eq. 12, 16).
 
@@ -129,6 +133,9 @@ def evaluate(
         Triangles known to be hidden (turned away from the camera): left out.
     occluded : (t,) bool, optional
         Triangles already found occluded in this frame: left out, and no new test is made.
+    template : (n, 3) float32, optional
+        What the pixels are compared with instead of the level's template (an appearance
+        adapted to recent frames, see ``Tracker``).
 
     Returns
     -------
@@ -148,7 +155,7 @@ def evaluate(
         if np.count_nonzero(valid) < 0.15 * n:
             return None
     samples = backend.sample(level.geometry, nodes - origin, pos)
-    d = _difference(level, layout, a, samples)
+    d = _difference(level, layout, a, samples, template)
     patches = level.patches
     valid_all = valid is None
     if valid_all:
@@ -189,7 +196,7 @@ def evaluate(
         use = use & (weight[level.triangle] > 0)
     if use is not mask and patches is not None:
         # The lighting of the patches that lost pixels is fitted again without them.
-        d, _ = patches.project(_difference(level, layout, a, samples), use)
+        d, _ = patches.project(_difference(level, layout, a, samples, template), use)
         dbar, loss = _robust(norm, d)
     weighted = use is not level.all_valid
     if weighted and np.count_nonzero(use) < 0.05 * n:
@@ -199,23 +206,24 @@ def evaluate(
     # come and go.
     capped = np.minimum(loss, LOSS_CAP * _ONES3.sum())
     residual = float(capped.mean() if mask is level.all_valid else capped[mask].mean())
-    return Evaluation(samples, dbar, valid, use, weight, residual, weighted, detected, hidden)
+    return Evaluation(samples, dbar, valid, use, weight, residual, weighted, detected, hidden, d)
 
 
-def _difference(level: Level, layout: ParamLayout, a: np.ndarray, samples: np.ndarray):
+def _difference(level: Level, layout: ParamLayout, a, samples, template=None):
     """``I0 - (S - b) / c``: template minus frame with the global lighting undone (Eq. 4).
 
     A global lighting within half an 8-bit grey level of none is not undone.
     """
+    t = level.template if template is None else template
     if layout.photometric == "none":
-        return level.template - samples
+        return t - samples
     b = a[layout.brightness]
     c = np.exp(a[layout.contrast])
     if np.abs(c - 1.0).max() < LIGHTING_EPS and np.abs(b).max() < LIGHTING_EPS:
-        return level.template - samples
+        return t - samples
     inv_c = (1.0 / c).astype(np.float32)
     d = np.multiply(samples, -inv_c)
-    d += level.template
+    d += t
     d += (b * inv_c).astype(np.float32)
     return d
 

@@ -21,6 +21,10 @@ from .level import Level
 from .norms import RobustNorm
 from .params import ParamLayout, node_positions
 from .pictures import FramePyramid
+from .refine import ITERATIONS as REFINE_ITERATIONS
+from .refine import TOLERANCE as REFINE_TOLERANCE
+from .refine import LocalRefiner, sample_gradients
+from .refine import stiffness as refine_stiffness
 from .warp import WarpBackend
 
 #: A blob is tracked on the finest pyramid level where it keeps fewer than this many times
@@ -50,6 +54,10 @@ class Fit:
         The finest level's local correlation (None when nothing fitted).
     visible : (t,) bool or None
         The triangles the finest level compared (not off the picture, hidden or occluded).
+    pictures : (FramePyramid, origin) or None
+        The frame as the fit read it (for the local stage).
+    evaluation : Evaluation or None
+        The finest level's last comparison.
     """
 
     params: np.ndarray
@@ -59,6 +67,8 @@ class Fit:
     occluded: float = 1.0
     quality: Quality | None = None
     visible: np.ndarray | None = None
+    pictures: tuple | None = None
+    evaluation: Evaluation | None = None
 
 
 class CoarseToFineFitter:
@@ -115,16 +125,19 @@ class CoarseToFineFitter:
         ]
         self.frozen: frozenset = frozenset()
         self._anchor = None
+        self._template = None
         self.quality = QualityMeter(levels[0], layout)
+        self.refiner = LocalRefiner(levels[0], layout, self.guard, norm.sigma)
 
-    def nodes(self, a: np.ndarray) -> np.ndarray:
-        """Mesh nodes (m, 2) in frame pixels for parameters ``a``."""
+    def nodes(self, a: np.ndarray, offsets: np.ndarray | None = None) -> np.ndarray:
+        """Mesh nodes (m, 2) in frame pixels for parameters ``a`` (and local offsets)."""
         return node_positions(
             a,
             self.layout,
             self.blob.vertices,
             self.blob.modes[:, : self.layout.n_modes],
             self.blob.centre,
+            offsets,
         )
 
     def unfolded(self, a: np.ndarray) -> np.ndarray:
@@ -161,8 +174,10 @@ class CoarseToFineFitter:
 
     # ------------------------------------------------------------------ frames
 
-    def pyramid(self, frame: np.ndarray, poses, wide: bool):
+    def pyramid(self, frame: np.ndarray, poses, wide: bool, nodes=None):
         """Blurred pyramid of the region around the blob at ``poses`` (all of it when wide).
+
+        ``nodes`` (m, 2): frame nodes to cover besides those of the poses.
 
         Returns (FramePyramid, origin (2,) float64) or None when the region is empty.
         """
@@ -172,7 +187,7 @@ class CoarseToFineFitter:
             x0 = y0 = 0
             x1, y1 = w, h
         else:
-            nodes = np.vstack([self.nodes(a) for a in poses])
+            nodes = np.vstack([self.nodes(a) for a in poses] + ([] if nodes is None else [nodes]))
             lo, hi = nodes.min(axis=0), nodes.max(axis=0)
             margin = max(0.15 * float((hi - lo).max()), 8.0 * align)
             x0 = int(np.clip(np.floor((lo[0] - margin) / align) * align, 0, w))
@@ -186,11 +201,15 @@ class CoarseToFineFitter:
 
     # ------------------------------------------------------------------ fitting
 
-    def fit(self, frame, seeds, wide: bool, known_residual: float | None, anchor=None) -> Fit:
+    def fit(
+        self, frame, seeds, wide: bool, known_residual: float | None, anchor=None, template=None
+    ) -> Fit:
         """Register from the best of ``seeds`` (the first is the preferred start).
 
         ``anchor`` holds the shape of what no pixel sees (see
-        :meth:`DifferenceDecomposition.fit`); by default the first seed.
+        :meth:`DifferenceDecomposition.fit`); by default the first seed. ``template`` (n, 3)
+        is what the finest level's pixels are compared with instead of the blob's template
+        (the coarse levels always use the template).
 
         1. Unless searching wide, the finest level is tried first from ``seeds[0]``: when
            the prediction was good that is all a frame needs.
@@ -208,6 +227,7 @@ class CoarseToFineFitter:
             return fail
         images, origin = pyr
         self._anchor = seeds[0] if anchor is None else self.unfolded(anchor)
+        self._template = template
         limit = 3.0 * known_residual if known_residual is not None and not wide else 0.0
         its = 0
         best = None
@@ -233,7 +253,63 @@ class CoarseToFineFitter:
             return Fit(start, 0.0, its)
         q = self.quality(ev, best.params)
         visible = ev.triangle_weight > 0
-        return Fit(best.params, q.value, its, ev.residual, ev.occluded_share, q, visible)
+        return Fit(best.params, q.value, its, ev.residual, ev.occluded_share, q, visible, pyr)
+
+    def refine(self, fit: Fit, offsets: np.ndarray, template=None):
+        """The local stage from ``offsets`` (m, 2) on a fit's frame (see :mod:`.refine`).
+
+        ``template``: what the finest level's pixels are compared with (see :meth:`fit`).
+
+        Returns (offsets, quality, evaluation) of the best iterate, or None when nothing
+        could be compared.
+        """
+        images, origin = fit.pictures
+        step = self.levels[0]
+        level = step.level
+        hold = refine_stiffness(fit.confidence)
+        org, box = step.bind(images[step.index], origin)
+        grad_image = self.refiner.gradients(images[step.index])
+        a = fit.params
+        modes = self.blob.modes[:, : self.layout.n_modes]
+        # The offsets carried from the last frame sit on this frame's modal shape: pull them
+        # back as far as needed for no triangle to fold there.
+        bare = self.refiner.local_shape(
+            a, np.zeros_like(offsets), self.blob.vertices, self.blob.centre, modes
+        )
+        u = self.guard.shape_step(bare, offsets) * offsets
+        best = None
+        occluded = None
+        for _ in range(REFINE_ITERATIONS):
+            nodes = self.nodes(a, u) * level.scale
+            ev = step.evaluate(a, org, box, nodes, occluded, template=template)
+            if ev is None:
+                break
+            if occluded is None:
+                occluded = ev.occluded_triangles
+            if best is not None and ev.residual >= best[1].residual:
+                break
+            best = (u, ev)
+            pos = level.positions(a, nodes) - org[:, None]
+            grads = sample_gradients(grad_image, pos, len(level))
+            shape = self.refiner.local_shape(
+                a,
+                u,
+                self.blob.vertices,
+                self.blob.centre,
+                self.blob.modes[:, : self.layout.n_modes],
+            )
+            du = self.refiner.step(ev, grads, a, u, shape, hold)
+            u = u + du
+            if np.sqrt((du**2).sum(axis=1).mean()) < REFINE_TOLERANCE:
+                nodes = self.nodes(a, u) * level.scale
+                ev = step.evaluate(a, org, box, nodes, occluded, template=template)
+                if ev is not None and ev.residual < best[1].residual:
+                    best = (u, ev)
+                break
+        if best is None:
+            return None
+        u, ev = best
+        return u, self.quality(ev, a), ev
 
     def _level_fit(self, step: DifferenceDecomposition, images, origin, a, cap=None, bail=None):
         return step.fit(
@@ -245,6 +321,7 @@ class CoarseToFineFitter:
             cap,
             bail,
             self._anchor,
+            self._template if step.level.finest else None,
         )
 
     def _descend(self, images, origin, start, wide: bool) -> LevelFit:

@@ -48,6 +48,7 @@ class FoldGuard:
     def __init__(self, vertices, triangles, modes, low: float = MIN_AREA, high: float = MAX_AREA):
         v = np.asarray(vertices, np.float64)
         tri = np.asarray(triangles)
+        self.triangles = tri
         k = modes.shape[1]
         phi = np.asarray(modes, np.float64).reshape(-1, 2, k)  # (m, 2, k)
         self.e1 = v[tri[:, 1]] - v[tri[:, 0]]  # (t, 2)
@@ -85,8 +86,25 @@ class FoldGuard:
         if not np.any(step):
             return 1.0
         e1g, e2g = self._edges(amplitudes)
-        e1, e2 = self.e1 + e1g, self.e2 + e2g
-        g1, g2 = self._edges(step)
+        return self._bounded(self.e1 + e1g, self.e2 + e2g, *self._edges(step))
+
+    def shape_ratios(self, shape: np.ndarray) -> np.ndarray:
+        """Area over rest area (t,) of a local shape given node by node (m, 2)."""
+        e1, e2 = self._shape_edges(shape)
+        return 0.5 * _cross(e1, e2) / self.rest
+
+    def shape_step(self, shape: np.ndarray, step: np.ndarray) -> float:
+        """:meth:`max_step` for node offsets: ``shape`` (m, 2) moving by ``step`` (m, 2)."""
+        if not np.any(step):
+            return 1.0
+        return self._bounded(*self._shape_edges(shape), *self._shape_edges(step))
+
+    def _shape_edges(self, shape: np.ndarray):
+        t = self.triangles
+        return shape[t[:, 1]] - shape[t[:, 0]], shape[t[:, 2]] - shape[t[:, 0]]
+
+    def _bounded(self, e1, e2, g1, g2) -> float:
+        """The step along edge changes (g1, g2) from edges (e1, e2) that keeps the bounds."""
         # Signed area along the step: A + B tau + C tau^2 (times the rest sign, so the
         # bounds read low <= area <= high for either orientation of the mesh).
         s = self._sign

@@ -104,7 +104,9 @@ def rotation(theta: float) -> np.ndarray:
     return np.array([[co, -si], [si, co]])
 
 
-def node_positions(a: np.ndarray, layout: ParamLayout, vertices, modes, centre) -> np.ndarray:
+def node_positions(
+    a: np.ndarray, layout: ParamLayout, vertices, modes, centre, offsets=None
+) -> np.ndarray:
     """Warped node positions ``V`` (m, 2) for parameters ``a``.
 
     Parameters
@@ -114,8 +116,12 @@ def node_positions(a: np.ndarray, layout: ParamLayout, vertices, modes, centre) 
     vertices : (m, 2) float64
     modes : (2m, k) float64
     centre : (2,) float64
+    offsets : (m, 2) float64, optional
+        Node offsets of the local stage, in the rest frame (see :mod:`.refine`).
     """
     local = vertices - centre
+    if offsets is not None:
+        local = local + offsets
     if layout.n_modes:
         local = local + (modes @ a[layout.modes]).reshape(-1, 2)
     return centre + a[:2] + np.exp(a[3]) * local @ rotation(a[2]).T

@@ -22,6 +22,16 @@ from .threads import single_blas_thread
 from .warp import CpuWarp, WarpBackend
 
 LIGHTING = ("local", "channel", "global", "none")
+#: No local stage in a frame where the doll moved more than this (pixels): such a frame is
+#: smeared by motion blur, which the nodes would bend to fit.
+REFINE_MOTION = 12.0
+#: The local stage's offsets are kept only when they raise the confidence by this much:
+#: small gains are mostly the nodes bending to fit noise or motion blur.
+REFINE_GAIN = 0.05
+#: The template's least share in the appearance a frame is compared with (see
+#: ``Tracker._adapt``): however far the surface's look has drifted, the first frame keeps
+#: this much say, so that errors cannot pile up unchecked.
+MIN_ANCHOR = 0.05
 
 
 @dataclass(frozen=True)
@@ -68,6 +78,13 @@ class TrackerOptions:
     propose_below : float
         When the extrapolated start fits worse than this, textured points followed from the
         previous frame propose another start (see :mod:`.proposals`).
+    refine_below : float
+        When the modal fit's confidence is below this, the local stage moves the nodes on
+        their own (see :mod:`.refine`); 0 turns it off.
+    adapt_below : float
+        When a frame's confidence is below this, the next frame is compared with a mix of
+        the template and this frame's look (the template's share is the confidence over
+        this, at least :data:`MIN_ANCHOR`); 0 turns it off.
     features : bool
         Re-acquire a lost blob by matching SIFT features against the template.
     """
@@ -83,10 +100,12 @@ class TrackerOptions:
     fine_capture: float = 1.0
     pixel_budget: int | None = 20000
     outlier_factor: float = 8.0
-    lost_below: float = 0.35
-    reacquire_above: float = 0.5
+    lost_below: float = 0.15
+    reacquire_above: float = 0.3
     predict: bool = True
     propose_below: float = 0.6
+    refine_below: float = 0.97
+    adapt_below: float = 0.97
     features: bool = True
 
 
@@ -204,10 +223,12 @@ class Tracker:
         self.lost = False
         self._last_residual = None
         self._previous = None
+        self._offsets = None
+        self._template = None
 
-    def nodes(self, a: np.ndarray) -> np.ndarray:
-        """Mesh nodes (m, 2) in frame pixels for parameters ``a``."""
-        return self.fitter.nodes(a)
+    def nodes(self, a: np.ndarray, offsets: np.ndarray | None = None) -> np.ndarray:
+        """Mesh nodes (m, 2) in frame pixels for parameters ``a`` (and local offsets)."""
+        return self.fitter.nodes(a, offsets)
 
     # ------------------------------------------------------------------ public
 
@@ -258,9 +279,11 @@ class Tracker:
             start2 = fallback(frame, was_lost)
             if start2 is not None:
                 fit, its = self._better(fit, self._fit(frame, [start2], wide=True), its)
-        self._previous = frame
         warnings = []
+        conf, visible = fit.confidence, fit.visible
         if fit.confidence >= need:
+            conf, visible, ev = self._refine(fit)
+            self._adapt(ev, fit.params, conf)
             a = fit.params
             self._last_residual = fit.residual
             self._prev = None if was_lost else self.state.copy()
@@ -273,31 +296,80 @@ class Tracker:
             self.state = self.last_good.copy()
             self._prev = None
             params = self.last_good.copy()
+            visible = None
+            self._template = None
             warnings.append("The blob is lost: holding its last good pose.")
+        nodes = self.nodes(params, self._offsets)
+        self._previous = frame
         return TrackResult(
             params=params.copy(),
-            nodes=self.nodes(params),
-            confidence=float(fit.confidence),
+            nodes=nodes,
+            confidence=float(conf),
             lost=self.lost,
             iterations=int(its),
             residual=float(fit.residual),
             occluded=float(fit.occluded),
             reacquired=bool(was_lost and not self.lost),
-            visible=self._visible(fit),
+            visible=self._visible(visible),
             warnings=tuple(warnings),
         )
 
     # ------------------------------------------------------------------ internals
 
-    def _visible(self, fit: Fit) -> np.ndarray:
-        n = len(self.blob.triangles)
-        if self.lost or fit.visible is None:
-            return np.zeros(n, bool)
-        return fit.visible.copy()
+    def _visible(self, visible) -> np.ndarray:
+        if self.lost or visible is None:
+            return np.zeros(len(self.blob.triangles), bool)
+        return np.array(visible, dtype=bool)
+
+    def _refine(self, fit: Fit):
+        """The local stage (node offsets) when the modal fit leaves much unexplained.
+
+        Returns the frame's (confidence, visible triangles, finest evaluation). The offsets
+        carry over to the next frame; after a good modal fit they are dropped.
+        """
+        moved = np.linalg.norm(fit.params[:2] - self.state[:2])
+        if (
+            fit.confidence >= self.options.refine_below
+            or fit.pictures is None
+            or moved > REFINE_MOTION
+        ):
+            self._offsets = None
+            return fit.confidence, fit.visible, fit.evaluation
+        start = np.zeros_like(self.blob.vertices) if self._offsets is None else self._offsets
+        out = self.fitter.refine(fit, start, self._template)
+        if out is None or out[1].value < fit.confidence + REFINE_GAIN:
+            self._offsets = None
+            return fit.confidence, fit.visible, fit.evaluation
+        self._offsets, quality, ev = out
+        return quality.value, ev.triangle_weight > 0, ev
+
+    def _adapt(self, ev, a, confidence: float) -> None:
+        """The appearance to compare the next frame with (see :data:`MIN_ANCHOR`).
+
+        The finest level's pixels as this frame showed them (its global lighting undone),
+        mixed with the template by how far this frame's fit fell short of it; pixels that
+        were not seen keep the template.
+        """
+        below = self.options.adapt_below
+        anchor = 1.0 if below <= 0 else min(1.0, confidence / below)
+        level = self.fitter.levels[0].level
+        if anchor >= 1.0 or ev is None:
+            self._template = None
+            return
+        anchor = max(anchor, MIN_ANCHOR)
+        seen = np.asarray(ev.samples, np.float64)
+        if self.layout.photometric != "none":
+            c, b = self.layout.channel_gain_offset(a)
+            seen = (seen - b) / c
+        t0 = level.template
+        mixed = np.where(ev.use[:, None], anchor * t0 + (1.0 - anchor) * seen, t0)
+        self._template = mixed.astype(np.float32)
 
     def _fit(self, frame, seeds, wide: bool = False) -> Fit:
         anchor = None if self.lost else self.state
-        return self.fitter.fit(frame, seeds, wide, self._last_residual, anchor)
+        return self.fitter.fit(
+            frame, seeds, wide, self._last_residual, anchor, None if wide else self._template
+        )
 
     @staticmethod
     def _better(fit: Fit, other: Fit, its: int):

@@ -1,0 +1,177 @@
+"""The local stage: node offsets on top of the modal fit, for what the modes cannot bend.
+
+Twenty smooth fields cannot follow a sheet crumpling into creases. After the modal fit the
+mesh nodes may move on their own, by offsets ``U`` (m, 2) in the blob's rest frame::
+
+    V = c + t + s R (X - c + Phi a + U)
+
+found by robust Gauss-Newton on the same comparison as the fit (lighting patches projected
+out, covered and turned-away triangles left out): the frame's gradient at each template
+pixel, spread to its triangle's nodes by the barycentric weights, gives the Jacobian; a
+Lorentzian gives the weights (IRLS). The offsets are held smooth by the mesh's graph
+Laplacian and small by a ridge, carried from frame to frame in the rest frame (so they turn
+and scale with the doll), and cut so that no triangle folds. They move the tracked mesh
+only: the parameters -- the similarity and the named modes that drive the character --
+are the modal fit's.
+"""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+from .evaluation import Evaluation
+from .folding import FoldGuard
+from .level import Level
+from .params import ParamLayout, rotation
+from .warp import REMAP_ROW
+
+#: Gauss-Newton iterations at most per frame.
+ITERATIONS = 8
+#: Smoothness of the offsets (graph Laplacian), relative to the data's mean curvature.
+SMOOTH = 0.02
+#: Pull of the offsets towards none (the modal fit), relative likewise.
+RIDGE = 0.002
+#: How fast the hold on the offsets grows with the modal fit's confidence (see stiffness).
+STIFFNESS_POWER = 1.0
+#: Stop when the offsets change by less than this (level-0 pixels RMS over the nodes).
+TOLERANCE = 0.05
+
+
+def sample_gradients(grad_image: np.ndarray, positions: np.ndarray, n: int) -> np.ndarray:
+    """The derivatives (n, 3, 2) at warped template pixels.
+
+    ``positions`` (2, n_pad) as :meth:`Level.positions` gives them, in the picture's pixels.
+    """
+    n_pad = positions.shape[1]
+    cols = min(n_pad, REMAP_ROW)
+    shape = (n_pad // cols, cols)
+    out = cv2.remap(
+        grad_image,
+        positions[0].reshape(shape),
+        positions[1].reshape(shape),
+        interpolation=cv2.INTER_LINEAR,
+        borderMode=cv2.BORDER_REPLICATE,
+    ).reshape(-1, 6)[:n]
+    return out.reshape(n, 2, 3).transpose(0, 2, 1)
+
+
+def stiffness(confidence: float) -> float:
+    """How firmly the offsets are held, given how well the modes alone fit.
+
+    Where the modes explain the frame (their confidence is high), local freedom only fits
+    noise; where they fall short (a crumple), the nodes get the freedom to follow.
+    """
+    c = min(max(confidence, 0.05), 0.95)
+    return (c / (1.0 - c)) ** STIFFNESS_POWER
+
+
+def graph_laplacian(n_nodes: int, triangles: np.ndarray) -> np.ndarray:
+    """``D - A`` (m, m) of the mesh's edge graph."""
+    e = np.vstack([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
+    e = np.unique(np.sort(e, axis=1), axis=0)
+    lap = np.zeros((n_nodes, n_nodes))
+    lap[e[:, 0], e[:, 1]] = lap[e[:, 1], e[:, 0]] = -1.0
+    lap[np.diag_indices(n_nodes)] = -lap.sum(axis=1)
+    return lap
+
+
+class LocalRefiner:
+    """Node offsets on the finest level's comparison.
+
+    Parameters
+    ----------
+    level : Level
+        The finest level the tracker uses.
+    layout : ParamLayout
+    guard : FoldGuard
+    sigma : float
+        Scale of the Lorentzian weights (image units).
+    """
+
+    def __init__(self, level: Level, layout: ParamLayout, guard: FoldGuard, sigma: float):
+        self.level = level
+        self.layout = layout
+        self.guard = guard
+        self.sigma = float(sigma)
+        m = len(level.vertices)
+        self.m = m
+        tri = level.geometry.triangles[level.triangle]  # (n, 3) nodes of each pixel
+        self.nodes_of_pixel = tri
+        self.weights = level.geometry.weights  # (n, 3)
+        lap = graph_laplacian(m, level.geometry.triangles)
+        self.laplacian = np.kron(lap, np.eye(2))  # (2m, 2m), x and y interleaved
+        # Keys of the (node j, node l) pairs of every pixel for the normal equations.
+        self._pairs = [(j, k) for j in range(3) for k in range(3)]
+        self._keys = [tri[:, j] * m + tri[:, k] for j, k in self._pairs]
+
+    def gradients(self, image: np.ndarray) -> np.ndarray:
+        """The level picture's x and y derivatives, stacked (h, w, 6) float32."""
+        gx = cv2.Sobel(image, cv2.CV_32F, 1, 0, ksize=3, scale=1.0 / 8.0)
+        gy = cv2.Sobel(image, cv2.CV_32F, 0, 1, ksize=3, scale=1.0 / 8.0)
+        return np.ascontiguousarray(np.concatenate([gx, gy], axis=2))
+
+    def normal_equations(self, ev: Evaluation, grads: np.ndarray):
+        """``J^T W J`` (2m, 2m) and ``J^T W r`` (2m,) for the node positions (level pixels).
+
+        ``grads`` (n, 3, 2): the frame's derivatives at the warped template pixels.
+        """
+        m = self.m
+        d = ev.difference.astype(np.float64)  # (n, 3): template - frame
+        w = 1.0 / (1.0 + d * d / (2.0 * self.sigma**2))  # Lorentzian IRLS weights
+        w *= ev.use[:, None]
+        g = grads.astype(np.float64)  # (n, 3, 2)
+        gxx = (w * g[:, :, 0] * g[:, :, 0]).sum(axis=1)
+        gxy = (w * g[:, :, 0] * g[:, :, 1]).sum(axis=1)
+        gyy = (w * g[:, :, 1] * g[:, :, 1]).sum(axis=1)
+        rx = (w * g[:, :, 0] * d).sum(axis=1)  # residual r = t - s, and dr/dx = -g
+        ry = (w * g[:, :, 1] * d).sum(axis=1)
+        bw = self.weights
+        hess = np.zeros((m, 2, m, 2))
+        for (j, k), key in zip(self._pairs, self._keys, strict=True):
+            ww = bw[:, j] * bw[:, k]
+            for (p, q), val in (((0, 0), gxx), ((0, 1), gxy), ((1, 1), gyy)):
+                acc = np.bincount(key, weights=ww * val, minlength=m * m).reshape(m, m)
+                hess[:, p, :, q] += acc
+                if p != q:
+                    hess[:, q, :, p] += acc
+        grad = np.zeros((m, 2))
+        for j in range(3):
+            node = self.nodes_of_pixel[:, j]
+            grad[:, 0] += np.bincount(node, weights=bw[:, j] * rx, minlength=m)
+            grad[:, 1] += np.bincount(node, weights=bw[:, j] * ry, minlength=m)
+        return hess.reshape(2 * m, 2 * m), grad.ravel()
+
+    def local_shape(self, a: np.ndarray, offsets: np.ndarray, blob_vertices, centre, modes):
+        """``X - c + Phi a + U`` (m, 2), level-0 pixels."""
+        shape = blob_vertices - centre + offsets
+        if self.layout.n_modes:
+            shape = shape + (modes @ a[self.layout.modes]).reshape(-1, 2)
+        return shape
+
+    def step(self, ev: Evaluation, grads, a, offsets, shape, stiffness=1.0) -> np.ndarray:
+        """One Gauss-Newton step of the offsets (m, 2), level-0 pixels, rest frame.
+
+        ``stiffness`` multiplies the regularisers. The step is cut so that no triangle
+        folds.
+        """
+        hess, grad = self.normal_equations(ev, grads)
+        scale = np.trace(hess) / len(hess)
+        if not scale > 0:
+            return np.zeros_like(offsets)
+        f = self.level.scale
+        s = np.exp(a[3]) * f  # level pixels per rest-frame pixel
+        rot = rotation(a[2])
+        # Regularisers on the offsets, written for the frame-level node motion
+        # dV = s R dU: |L (U + dU)|^2 and |U + dU|^2 become s^-2 terms.
+        u_frame = (offsets @ rot.T).ravel() * s
+        reg = stiffness * scale * (SMOOTH * self.laplacian + RIDGE * np.eye(len(hess)))
+        lhs = hess + reg
+        rhs = grad - reg @ u_frame
+        try:
+            dv = np.linalg.solve(lhs, rhs).reshape(-1, 2)
+        except np.linalg.LinAlgError:
+            return np.zeros_like(offsets)
+        du = (dv @ rot) / s  # back to the rest frame, level-0 pixels
+        tau = self.guard.shape_step(shape, du)
+        return tau * du
