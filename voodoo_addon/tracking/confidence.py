@@ -25,7 +25,7 @@ from .level import Level
 from .params import ParamLayout
 
 #: Pixels the quality is computed on (an even subsample of the level's).
-QUALITY_SAMPLES = 1500
+QUALITY_SAMPLES = 1000
 #: A triangle-channel needs this many pixels for its correlation to count.
 MIN_PIXELS = 6
 #: Below this fraction of the textured blob seen (on the picture, not turned away), the
@@ -47,14 +47,14 @@ class Quality:
         The mean local correlation alone, in [-1, 1].
     seen : float
         Fraction of the textured blob compared (on the picture, not turned away).
-    triangles : (t,) float64
-        Each triangle's correlation (NaN where not compared).
+    colour : float
+        The colour agreement, in [0, 1].
     """
 
     value: float
     correlation: float
     seen: float
-    triangles: np.ndarray
+    colour: float
 
 
 class QualityMeter:
@@ -100,9 +100,11 @@ class QualityMeter:
     def __call__(self, ev: Evaluation, a: np.ndarray) -> Quality:
         """The quality of the evaluation ``ev``, made at parameters ``a``."""
         s = ev.samples[:: self.step].astype(np.float64)
-        if self.layout.photometric != "none":
-            c, b = self.layout.channel_gain_offset(a)
-            s = (s - b) / c
+        lay = self.layout
+        if lay.photometric != "none":
+            b, log_c = a[lay.brightness], a[lay.contrast]
+            if np.abs(log_c).max() > 1e-3 or np.abs(b).max() > 1e-3:
+                s = (s - b) / np.exp(log_c)
         s = s.ravel()
         t = self.t
         # Every triangle on the picture and not turned away is judged -- the ones the fit
@@ -128,15 +130,11 @@ class QualityMeter:
         w = np.where(ok, self.weight, 0.0)
         seen = float(w.sum()) / self.total if self.total > 0 else 0.0
         if not ok.any() or self.total <= 0:
-            return Quality(0.0, 0.0, seen, np.full(self.n_tri, np.nan))
+            return Quality(0.0, 0.0, seen, 1.0)
         corr = float((w[ok] * ncc[ok]).sum() / w[ok].sum())
         colour = self._colour_agreement(ms.reshape(self.n_tri, self.channels), count)
         value = max(corr, 0.0) * colour * min(1.0, seen / FULL_VIEW)
-        per_tri = ncc.reshape(self.n_tri, self.channels)
-        has = ~np.isnan(per_tri)
-        n_has = has.sum(axis=1)
-        tri = np.where(n_has > 0, np.nansum(per_tri, axis=1) / np.maximum(n_has, 1), np.nan)
-        return Quality(float(value), corr, seen, tri)
+        return Quality(float(value), corr, seen, colour)
 
     def _colour_agreement(self, frame_mean: np.ndarray, count: np.ndarray) -> float:
         """In [0, 1]: 1 when every coloured triangle has the template's chroma.
@@ -145,7 +143,7 @@ class QualityMeter:
         template is there (grey triangles say nothing), mapped from [-1, 1] to [0, 1].
         """
         ct = self._chroma_t
-        cs = _chroma(frame_mean)
+        cs = frame_mean - frame_mean.sum(axis=1)[:, None] / self.channels
         seen = count.reshape(self.n_tri, self.channels)[:, 0]
         strength = (ct * ct).sum(axis=1)
         w = seen * strength
@@ -154,9 +152,8 @@ class QualityMeter:
         if not ok.any() or w[ok].sum() <= 0:
             return 1.0
         cos = (ct[ok] * cs[ok]).sum(axis=1) / norm[ok]
-        # Faint chroma is mostly noise: triangles count fully once their chroma is typical.
         agree = float((w[ok] * cos).sum() / w[ok].sum())
-        return float(np.clip(0.5 * (1.0 + agree), 0.0, 1.0))
+        return min(max(0.5 * (1.0 + agree), 0.0), 1.0)
 
 
 def _chroma(colours: np.ndarray) -> np.ndarray:

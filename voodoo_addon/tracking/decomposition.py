@@ -129,8 +129,11 @@ class DifferenceDecomposition:
 
     def solver(self, active) -> Solver:
         """The precomputed solve for ``active`` parameters (cached per set)."""
+        key = active.tobytes() if isinstance(active, np.ndarray) else None
+        if key in self._solvers:
+            return self._solvers[key]
         active = np.asarray(sorted(active), dtype=np.int64)
-        key = tuple(active)
+        key = active.tobytes()
         if key not in self._solvers:
             self._solvers[key] = build_solver(
                 self.level, self.backend, active, self.norm, self.gamma, self.penalties

@@ -163,7 +163,9 @@ def evaluate(
     mask = valid if hidden is None else valid & ~hidden[level.triangle]
     correlation = None
     if patches is not None:
-        d, correlation = patches.project(d, None if mask is level.all_valid else mask)
+        d, correlation = patches.project(
+            d, None if mask is level.all_valid else mask, correlate=occluded is None
+        )
     dbar, loss = _robust(norm, d)
 
     nt = level.n_triangles

@@ -9,6 +9,7 @@ tracker's business).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -124,6 +125,7 @@ class CoarseToFineFitter:
             for lv in levels
         ]
         self.frozen: frozenset = frozenset()
+        self._active: dict = {}
         self._anchor = None
         self._template = None
         self.quality = QualityMeter(levels[0], layout)
@@ -152,10 +154,17 @@ class CoarseToFineFitter:
     def set_frozen(self, indices) -> None:
         """Hold these parameter indices; precompute every level's solver for the rest."""
         self.frozen = frozenset(indices)
+        self._active = {}
         for step in self.levels:
             step.solver(self.active(step.index))
 
     def active(self, level: int) -> np.ndarray:
+        """Free parameters at a pyramid level (see :meth:`_free`), cached."""
+        if level not in self._active:
+            self._active[level] = self._free(level)
+        return self._active[level]
+
+    def _free(self, level: int) -> np.ndarray:
         """Free parameters at a pyramid level.
 
         The coarsest of several levels estimates the similarity and lighting only (a few
@@ -188,12 +197,14 @@ class CoarseToFineFitter:
             x1, y1 = w, h
         else:
             nodes = np.vstack([self.nodes(a) for a in poses] + ([] if nodes is None else [nodes]))
-            lo, hi = nodes.min(axis=0), nodes.max(axis=0)
-            margin = max(0.15 * float((hi - lo).max()), 8.0 * align)
-            x0 = int(np.clip(np.floor((lo[0] - margin) / align) * align, 0, w))
-            y0 = int(np.clip(np.floor((lo[1] - margin) / align) * align, 0, h))
-            x1 = int(np.clip(np.ceil(hi[0] + margin) + 1, 0, w))
-            y1 = int(np.clip(np.ceil(hi[1] + margin) + 1, 0, h))
+            if not np.isfinite(nodes).all():
+                return None
+            (lx, ly), (hx, hy) = nodes.min(axis=0).tolist(), nodes.max(axis=0).tolist()
+            margin = max(0.15 * max(hx - lx, hy - ly), 8.0 * align)
+            x0 = min(max(math.floor((lx - margin) / align) * align, 0), w)
+            y0 = min(max(math.floor((ly - margin) / align) * align, 0), h)
+            x1 = min(max(math.ceil(hx + margin) + 1, 0), w)
+            y1 = min(max(math.ceil(hy + margin) + 1, 0), h)
             if x1 - x0 < 8 or y1 - y0 < 8:
                 return None
         pyr = FramePyramid(frame[y0:y1, x0:x1], self.blob.blur_sigma, self.base)
@@ -202,14 +213,22 @@ class CoarseToFineFitter:
     # ------------------------------------------------------------------ fitting
 
     def fit(
-        self, frame, seeds, wide: bool, known_residual: float | None, anchor=None, template=None
+        self,
+        frame,
+        seeds,
+        wide: bool,
+        known_residual: float | None,
+        anchor=None,
+        template=None,
+        checked: bool = False,
     ) -> Fit:
         """Register from the best of ``seeds`` (the first is the preferred start).
 
         ``anchor`` holds the shape of what no pixel sees (see
         :meth:`DifferenceDecomposition.fit`); by default the first seed. ``template`` (n, 3)
         is what the finest level's pixels are compared with instead of the blob's template
-        (the coarse levels always use the template).
+        (the coarse levels always use the template). ``checked``: the seeds and the anchor
+        are known to fold nothing (the tracker's own states and predictions).
 
         1. Unless searching wide, the finest level is tried first from ``seeds[0]``: when
            the prediction was good that is all a frame needs.
@@ -219,14 +238,16 @@ class CoarseToFineFitter:
         """
         start = seeds[0]
         fail = Fit(start, 0.0, 0)
-        seeds = [self.unfolded(a) for a in seeds if np.isfinite(a).all()]
+        seeds = [a if checked else self.unfolded(a) for a in seeds if np.isfinite(a).all()]
         if not seeds:
             return fail
         pyr = self.pyramid(frame, seeds, wide)
         if pyr is None:
             return fail
         images, origin = pyr
-        self._anchor = seeds[0] if anchor is None else self.unfolded(anchor)
+        if anchor is None:
+            anchor = seeds[0]
+        self._anchor = anchor if checked else self.unfolded(anchor)
         self._template = template
         limit = 3.0 * known_residual if known_residual is not None and not wide else 0.0
         its = 0

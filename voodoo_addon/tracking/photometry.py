@@ -170,7 +170,7 @@ class Patches:
         along = self._sum(x * dev) / self._energy[:, None]
         return x - self._spread(mean) - dev * self._spread(along)
 
-    def project(self, d: np.ndarray, mask: np.ndarray | None = None):
+    def project(self, d: np.ndarray, mask: np.ndarray | None = None, correlate: bool = True):
         """The difference image ``d = template - frame`` (n, c) without each patch's lighting.
 
         Parameters
@@ -178,6 +178,8 @@ class Patches:
         d : (n, c) float32
         mask : (n,) bool, optional
             Fit the lighting on these pixels only (the rest come out zero).
+        correlate : bool
+            Also give the correlations (else None).
 
         Returns
         -------
@@ -190,6 +192,8 @@ class Patches:
         if mask is None:
             coef = self._coef @ flat  # (2G,): mean, then gain, of every patch
             projected = (flat - self._back @ coef).reshape(d.shape)
+            if not correlate:
+                return projected, None
             mean, along = coef[0::2].astype(np.float64), coef[1::2].astype(np.float64)
             energy = self.energy
             s_xt = along * energy

@@ -21,8 +21,8 @@ def to_float(pixels: np.ndarray) -> np.ndarray:
         out = pixels.astype(np.float32)
         out *= np.float32(1.0 / 255.0)
         return out
-    out = np.ascontiguousarray(pixels, dtype=np.float32)
-    if not np.isfinite(out).all():
+    out = np.asarray(pixels, dtype=np.float32)  # a view when already float32
+    if not np.isfinite(out.sum(dtype=np.float64)):  # one pass: NaN or inf spoil the sum
         out = np.nan_to_num(out, nan=0.0, posinf=1.0, neginf=0.0)
     return out
 
@@ -41,7 +41,7 @@ class FramePyramid:
     """
 
     def __init__(self, region: np.ndarray, sigma: float, base: int = 0):
-        img = np.ascontiguousarray(region)
+        img = region
         if img.dtype != np.uint8:
             img = to_float(img)
         # Halving first and blurring at the base level by the template's blur in base-level
@@ -51,7 +51,9 @@ class FramePyramid:
             img = cv2.pyrDown(img)
         img = blur(img, sigma / 2**base)
         self.base = base
-        self._levels = {base: to_float(img)}
+        if img.dtype == np.uint8:
+            img = to_float(img)
+        self._levels = {base: img}
 
     def __getitem__(self, level: int) -> np.ndarray:
         if level < self.base:

@@ -96,7 +96,7 @@ class TrackerOptions:
     min_level_pixels: int = 300
     max_iterations: int = 8
     tolerance: float = 1e-2
-    step_tolerance: float = 0.06
+    step_tolerance: float = 0.15
     fine_capture: float = 1.0
     pixel_budget: int | None = 20000
     outlier_factor: float = 8.0
@@ -258,8 +258,8 @@ class Tracker:
             fit = self._fit(frame, [self.last_good], wide=True)
         else:
             pred = self._predict()
-            seeds = [pred] if np.allclose(pred, self.state) else [pred, self.state]
-            fit = self._fit(frame, seeds, wide=False)
+            seeds = [pred] if np.array_equal(pred, self.state) else [pred, self.state]
+            fit = self._fit(frame, seeds, wide=False, checked=True)
         its = fit.iterations
         # The prediction fits badly: where textured points went since the last frame, then
         # where the template's features are in this one.
@@ -365,11 +365,10 @@ class Tracker:
         mixed = np.where(ev.use[:, None], anchor * t0 + (1.0 - anchor) * seen, t0)
         self._template = mixed.astype(np.float32)
 
-    def _fit(self, frame, seeds, wide: bool = False) -> Fit:
+    def _fit(self, frame, seeds, wide: bool = False, checked: bool = False) -> Fit:
         anchor = None if self.lost else self.state
-        return self.fitter.fit(
-            frame, seeds, wide, self._last_residual, anchor, None if wide else self._template
-        )
+        template = None if wide else self._template
+        return self.fitter.fit(frame, seeds, wide, self._last_residual, anchor, template, checked)
 
     @staticmethod
     def _better(fit: Fit, other: Fit, its: int):
