@@ -26,8 +26,10 @@ from .level import Level
 from .params import ParamLayout, rotation
 from .warp import REMAP_ROW
 
+#: Pixels the normal equations are summed over (an even subsample of the level's).
+NORMAL_PIXELS = 6000
 #: Gauss-Newton iterations at most per frame.
-ITERATIONS = 8
+ITERATIONS = 5
 #: Smoothness of the offsets (graph Laplacian), relative to the data's mean curvature.
 SMOOTH = 0.02
 #: Pull of the offsets towards none (the modal fit), relative likewise.
@@ -96,14 +98,31 @@ class LocalRefiner:
         self.sigma = float(sigma)
         m = len(level.vertices)
         self.m = m
-        tri = level.geometry.triangles[level.triangle]  # (n, 3) nodes of each pixel
-        self.nodes_of_pixel = tri
-        self.weights = level.geometry.weights  # (n, 3)
+        # The normal equations are summed over an even subsample of the pixels (a few dozen
+        # per node pin its motion down as well as hundreds do), taken triangle by triangle
+        # so that every triangle's sums are one reduceat.
+        step = max(1, len(level) // NORMAL_PIXELS)
+        picked = np.arange(0, len(level), step)
+        picked = picked[np.argsort(level.triangle[picked], kind="stable")]
+        self.pick = picked
+        tri_of = level.triangle[picked]
+        self._starts = np.r_[0, np.nonzero(np.diff(tri_of))[0] + 1]
+        tris = tri_of[self._starts]  # the triangles that have picked pixels
+        corners = level.geometry.triangles[tris]  # (t', 3)
+        w = level.geometry.weights[picked]  # (n', 3)
+        # Products of corner weights, (n', 9): pair (j, k) of the pixel's three corners.
+        self._pair_weights = np.stack(
+            [w[:, j] * w[:, k] for j in range(3) for k in range(3)], 1
+        ).astype(np.float32)
+        self.weights = w
+        # Where each triangle's (pair, entry) sum goes in the (3, m, m) Hessian entries.
+        pair_nodes = np.stack(
+            [corners[:, j] * m + corners[:, k] for j in range(3) for k in range(3)], 1
+        )  # (t', 9)
+        self._bins = (pair_nodes[:, :, None] + np.arange(3) * m * m).ravel()  # (t' * 9 * 3,)
+        self._corners = corners.ravel()  # (t' * 3,)
         lap = graph_laplacian(m, level.geometry.triangles)
         self.laplacian = np.kron(lap, np.eye(2))  # (2m, 2m), x and y interleaved
-        # Keys of the (node j, node l) pairs of every pixel for the normal equations.
-        self._pairs = [(j, k) for j in range(3) for k in range(3)]
-        self._keys = [tri[:, j] * m + tri[:, k] for j, k in self._pairs]
 
     def gradients(self, image: np.ndarray) -> np.ndarray:
         """The level picture's x and y derivatives, stacked (h, w, 6) float32."""
@@ -117,29 +136,48 @@ class LocalRefiner:
         ``grads`` (n, 3, 2): the frame's derivatives at the warped template pixels.
         """
         m = self.m
-        d = ev.difference.astype(np.float64)  # (n, 3): template - frame
-        w = 1.0 / (1.0 + d * d / (2.0 * self.sigma**2))  # Lorentzian IRLS weights
-        w *= ev.use[:, None]
-        g = grads.astype(np.float64)  # (n, 3, 2)
-        gxx = (w * g[:, :, 0] * g[:, :, 0]).sum(axis=1)
-        gxy = (w * g[:, :, 0] * g[:, :, 1]).sum(axis=1)
-        gyy = (w * g[:, :, 1] * g[:, :, 1]).sum(axis=1)
-        rx = (w * g[:, :, 0] * d).sum(axis=1)  # residual r = t - s, and dr/dx = -g
-        ry = (w * g[:, :, 1] * d).sum(axis=1)
+        d = ev.difference[self.pick]  # (n', 3): template - frame
+        w = 1.0 / (1.0 + d * d * np.float32(0.5 / self.sigma**2))  # Lorentzian IRLS weights
+        w *= ev.use[self.pick, None]
+        g = grads[self.pick]  # (n', 3, 2)
+        gx = np.ascontiguousarray(g[:, :, 0])
+        gy = np.ascontiguousarray(g[:, :, 1])
+        wgx, wgy = w * gx, w * gy
+        entries = np.stack(  # (n', 3): the pixel's xx, xy, yy curvature
+            [
+                np.einsum("nc,nc->n", wgx, gx),
+                np.einsum("nc,nc->n", wgx, gy),
+                np.einsum("nc,nc->n", wgy, gy),
+            ],
+            axis=1,
+        )
+        rx = np.einsum("nc,nc->n", wgx, d).astype(np.float64)  # r = t - s, dr/dx = -g
+        ry = np.einsum("nc,nc->n", wgy, d).astype(np.float64)
+        # Per triangle: sum over its pixels of (corner-pair weight) x (entry): (t', 9, 3).
+        pw = self._pair_weights
+        per_tri = np.stack(
+            [np.add.reduceat(pw * entries[:, e : e + 1], self._starts, axis=0) for e in range(3)],
+            axis=2,
+        )
+        acc = np.bincount(self._bins, weights=per_tri.ravel(), minlength=3 * m * m)
+        acc = acc.reshape(3, m, m)
+        hess = np.empty((m, 2, m, 2))
+        hess[:, 0, :, 0] = acc[0]
+        hess[:, 0, :, 1] = acc[1]
+        hess[:, 1, :, 0] = acc[1]
+        hess[:, 1, :, 1] = acc[2]
+        # The right-hand side the same way: per triangle and corner, then per node.
         bw = self.weights
-        hess = np.zeros((m, 2, m, 2))
-        for (j, k), key in zip(self._pairs, self._keys, strict=True):
-            ww = bw[:, j] * bw[:, k]
-            for (p, q), val in (((0, 0), gxx), ((0, 1), gxy), ((1, 1), gyy)):
-                acc = np.bincount(key, weights=ww * val, minlength=m * m).reshape(m, m)
-                hess[:, p, :, q] += acc
-                if p != q:
-                    hess[:, q, :, p] += acc
-        grad = np.zeros((m, 2))
-        for j in range(3):
-            node = self.nodes_of_pixel[:, j]
-            grad[:, 0] += np.bincount(node, weights=bw[:, j] * rx, minlength=m)
-            grad[:, 1] += np.bincount(node, weights=bw[:, j] * ry, minlength=m)
+        rhs = np.add.reduceat(
+            np.concatenate([bw * rx[:, None], bw * ry[:, None]], axis=1), self._starts, axis=0
+        )  # (t', 6): x for the three corners, then y
+        grad = np.stack(
+            [
+                np.bincount(self._corners, weights=rhs[:, :3].ravel(), minlength=m),
+                np.bincount(self._corners, weights=rhs[:, 3:].ravel(), minlength=m),
+            ],
+            axis=1,
+        )
         return hess.reshape(2 * m, 2 * m), grad.ravel()
 
     def local_shape(self, a: np.ndarray, offsets: np.ndarray, blob_vertices, centre, modes):
