@@ -1,5 +1,6 @@
 """Tracking an active blob through frames: the per-level algorithm, the fitter, the tracker."""
 
-from .tracker import Tracker, TrackerOptions, TrackResult
+from .options import TrackerOptions
+from .tracker import Tracker, TrackResult
 
 __all__ = ["TrackResult", "Tracker", "TrackerOptions"]

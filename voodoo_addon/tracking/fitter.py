@@ -22,10 +22,7 @@ from .level import Level
 from .norms import RobustNorm
 from .params import ParamLayout, node_positions
 from .pictures import FramePyramid
-from .refine import ITERATIONS as REFINE_ITERATIONS
-from .refine import TOLERANCE as REFINE_TOLERANCE
-from .refine import LocalRefiner, sample_gradients
-from .refine import stiffness as refine_stiffness
+from .refine import LocalRefiner
 from .warp import WarpBackend
 
 #: A blob is tracked on the finest pyramid level where it keeps fewer than this many times
@@ -129,7 +126,9 @@ class CoarseToFineFitter:
         self._anchor = None
         self._template = None
         self.quality = QualityMeter(levels[0], layout)
-        self.refiner = LocalRefiner(levels[0], layout, self.guard, norm.sigma)
+        self.refiner = LocalRefiner(
+            self.levels[0], blob, layout, self.guard, norm.sigma, self.nodes, self.quality
+        )
 
     def nodes(self, a: np.ndarray, offsets: np.ndarray | None = None) -> np.ndarray:
         """Mesh nodes (m, 2) in frame pixels for parameters ``a`` (and local offsets)."""
@@ -279,58 +278,9 @@ class CoarseToFineFitter:
     def refine(self, fit: Fit, offsets: np.ndarray, template=None):
         """The local stage from ``offsets`` (m, 2) on a fit's frame (see :mod:`.refine`).
 
-        ``template``: what the finest level's pixels are compared with (see :meth:`fit`).
-
-        Returns (offsets, quality, evaluation) of the best iterate, or None when nothing
-        could be compared.
+        Returns (offsets, quality, evaluation), or None when nothing could be compared.
         """
-        images, origin = fit.pictures
-        step = self.levels[0]
-        level = step.level
-        hold = refine_stiffness(fit.confidence)
-        org, box = step.bind(images[step.index], origin)
-        grad_image = self.refiner.gradients(images[step.index])
-        a = fit.params
-        modes = self.blob.modes[:, : self.layout.n_modes]
-        # The offsets carried from the last frame sit on this frame's modal shape: pull them
-        # back as far as needed for no triangle to fold there.
-        bare = self.refiner.local_shape(
-            a, np.zeros_like(offsets), self.blob.vertices, self.blob.centre, modes
-        )
-        u = self.guard.shape_step(bare, offsets) * offsets
-        best = None
-        occluded = None
-        for _ in range(REFINE_ITERATIONS):
-            nodes = self.nodes(a, u) * level.scale
-            ev = step.evaluate(a, org, box, nodes, occluded, template=template)
-            if ev is None:
-                break
-            if occluded is None:
-                occluded = ev.occluded_triangles
-            if best is not None and ev.residual >= best[1].residual:
-                break
-            best = (u, ev)
-            pos = level.positions(a, nodes) - org[:, None]
-            grads = sample_gradients(grad_image, pos, len(level))
-            shape = self.refiner.local_shape(
-                a,
-                u,
-                self.blob.vertices,
-                self.blob.centre,
-                self.blob.modes[:, : self.layout.n_modes],
-            )
-            du = self.refiner.step(ev, grads, a, u, shape, hold)
-            u = u + du
-            if np.sqrt((du**2).sum(axis=1).mean()) < REFINE_TOLERANCE:
-                nodes = self.nodes(a, u) * level.scale
-                ev = step.evaluate(a, org, box, nodes, occluded, template=template)
-                if ev is not None and ev.residual < best[1].residual:
-                    best = (u, ev)
-                break
-        if best is None:
-            return None
-        u, ev = best
-        return u, self.quality(ev, a), ev
+        return self.refiner.run(fit.params, fit.confidence, fit.pictures, offsets, template)
 
     def _level_fit(self, step: DifferenceDecomposition, images, origin, a, cap=None, bail=None):
         return step.fit(

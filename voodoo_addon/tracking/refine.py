@@ -22,7 +22,6 @@ import numpy as np
 
 from .evaluation import Evaluation
 from .folding import FoldGuard
-from .level import Level
 from .params import ParamLayout, rotation
 from .warp import REMAP_ROW
 
@@ -83,19 +82,31 @@ class LocalRefiner:
 
     Parameters
     ----------
-    level : Level
-        The finest level the tracker uses.
+    step : DifferenceDecomposition
+        The finest level the tracker uses (its comparison is the one refined).
+    blob : ActiveBlob
     layout : ParamLayout
     guard : FoldGuard
     sigma : float
         Scale of the Lorentzian weights (image units).
+    nodes : callable
+        ``(a, offsets) -> (m, 2)`` frame nodes.
+    quality : QualityMeter
     """
 
-    def __init__(self, level: Level, layout: ParamLayout, guard: FoldGuard, sigma: float):
+    def __init__(
+        self, step, blob, layout: ParamLayout, guard: FoldGuard, sigma: float, nodes, quality
+    ):
+        level = step.level
+        self.step_ = step
         self.level = level
         self.layout = layout
         self.guard = guard
         self.sigma = float(sigma)
+        self._nodes = nodes
+        self._quality = quality
+        self._vertices, self._centre = blob.vertices, blob.centre
+        self._modes = blob.modes[:, : layout.n_modes]
         m = len(level.vertices)
         self.m = m
         # The normal equations are summed over an even subsample of the pixels (a few dozen
@@ -180,12 +191,62 @@ class LocalRefiner:
         )
         return hess.reshape(2 * m, 2 * m), grad.ravel()
 
-    def local_shape(self, a: np.ndarray, offsets: np.ndarray, blob_vertices, centre, modes):
-        """``X - c + Phi a + U`` (m, 2), level-0 pixels."""
-        shape = blob_vertices - centre + offsets
+    def run(self, a, confidence, pictures, offsets, template=None):
+        """Refine the node offsets on a fit's frame, from ``offsets`` (m, 2).
+
+        Parameters
+        ----------
+        a : (P,) float64
+            The modal fit.
+        confidence : float
+            Its confidence (how firmly the offsets are held, see :func:`stiffness`).
+        pictures : (FramePyramid, origin)
+            The frame as the fit read it.
+        offsets : (m, 2) float64
+            Where to start (the last frame's), rest frame, level-0 pixels.
+        template : (n, 3) float32, optional
+            What the pixels are compared with instead of the template.
+
+        Returns
+        -------
+        (offsets, Quality, Evaluation) of the best iterate, or None.
+        """
+        images, origin = pictures
+        step, level = self.step_, self.level
+        hold = stiffness(confidence)
+        org, box = step.bind(images[step.index], origin)
+        grad_image = self.gradients(images[step.index])
+        bare = self._vertices - self._centre  # the modal shape X - c + Phi a
         if self.layout.n_modes:
-            shape = shape + (modes @ a[self.layout.modes]).reshape(-1, 2)
-        return shape
+            bare = bare + (self._modes @ a[self.layout.modes]).reshape(-1, 2)
+        # The offsets carried from the last frame sit on this frame's modal shape: pull them
+        # back as far as needed for no triangle to fold there.
+        u = self.guard.shape_step(bare, offsets) * offsets
+        best, occluded = None, None
+        for _ in range(ITERATIONS):
+            nodes = self._nodes(a, u) * level.scale
+            ev = step.evaluate(a, org, box, nodes, occluded, template=template)
+            if ev is None:
+                break
+            if occluded is None:
+                occluded = ev.occluded_triangles
+            if best is not None and ev.residual >= best[1].residual:
+                break
+            best = (u, ev)
+            pos = level.positions(a, nodes) - org[:, None]
+            grads = sample_gradients(grad_image, pos, len(level))
+            du = self.step(ev, grads, a, u, bare + u, hold)
+            u = u + du
+            if np.sqrt((du**2).sum(axis=1).mean()) < TOLERANCE:
+                nodes = self._nodes(a, u) * level.scale
+                ev = step.evaluate(a, org, box, nodes, occluded, template=template)
+                if ev is not None and ev.residual < best[1].residual:
+                    best = (u, ev)
+                break
+        if best is None:
+            return None
+        u, ev = best
+        return u, self._quality(ev, a), ev
 
     def step(self, ev: Evaluation, grads, a, offsets, shape, stiffness=1.0) -> np.ndarray:
         """One Gauss-Newton step of the offsets (m, 2), level-0 pixels, rest frame.

@@ -1,0 +1,82 @@
+"""The tracker's settings (see :class:`TrackerOptions`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+#: The lighting models :attr:`TrackerOptions.lighting` may name.
+LIGHTING = ("local", "channel", "global", "none")
+
+
+@dataclass(frozen=True)
+class TrackerOptions:
+    """Tracker settings; the defaults work without tuning.
+
+    Attributes
+    ----------
+    sigma : float
+        Scale of the Lorentzian norm (Eq. 9), image units.
+    gamma : float
+        Weight of the modal-stiffness prior (Eq. 10) against the mean robust error.
+    lighting : {"local", "channel", "global", "none"}
+        How lighting changes are absorbed. "local" (default): a grey gain and bias per
+        lighting patch, projected out of every comparison (see :mod:`.photometry`), plus the
+        paper's brightness and contrast per channel (Eq. 4) for white balance. The others
+        use the paper's model alone -- per channel, once for all channels -- or nothing.
+    max_levels : int
+        Pyramid levels at most (coarse to fine).
+    min_level_pixels : int
+        A coarser level is only used while its blob keeps this many pixels.
+    max_iterations : int
+        Iteration cap per level and frame.
+    tolerance : float
+        Stop when the robust residual improves by less than this fraction.
+    step_tolerance : float
+        ... or when an update moves the nodes by less than this many pixels RMS (finest
+        level; coarser levels stop at a quarter of their pixel).
+    fine_capture : float
+        A frame starts at the finest level and drops to the coarse levels only when the
+        first update there moves the nodes by more than this many pixels RMS.
+    pixel_budget : int or None
+        Template pixels used at full resolution at most (an even subsample beyond).
+    outlier_factor : float
+        A triangle whose mean robust error exceeds this many times the median triangle's
+        is treated as occluded for the iteration.
+    lost_below : float
+        A frame whose confidence falls below this is lost.
+    reacquire_above : float
+        While lost, a frame must reach this confidence to count as found again.
+    predict : bool
+        Extrapolate the motion of the last two frames to start each frame.
+    propose_below : float
+        When the extrapolated start fits worse than this, textured points followed from the
+        previous frame propose another start (see :mod:`.proposals`).
+    refine_below : float
+        When the modal fit's confidence is below this, the local stage moves the nodes on
+        their own (see :mod:`.refine`); 0 turns it off.
+    adapt_below : float
+        When a frame's confidence is below this, the next frame is compared with a mix of
+        the template and this frame's look (the template's share is the confidence over
+        this, at least :data:`MIN_ANCHOR`); 0 turns it off.
+    features : bool
+        Re-acquire a lost blob by matching SIFT features against the template.
+    """
+
+    sigma: float = 0.15
+    gamma: float = 1e-5
+    lighting: str = "local"
+    max_levels: int = 3
+    min_level_pixels: int = 300
+    max_iterations: int = 8
+    tolerance: float = 1e-2
+    step_tolerance: float = 0.15
+    fine_capture: float = 1.0
+    pixel_budget: int | None = 20000
+    outlier_factor: float = 8.0
+    lost_below: float = 0.15
+    reacquire_above: float = 0.3
+    predict: bool = True
+    propose_below: float = 0.6
+    refine_below: float = 0.97
+    adapt_below: float = 0.97
+    features: bool = True
