@@ -13,7 +13,7 @@ from bpy_extras import anim_utils
 from mathutils import Matrix
 
 from ..voodoo_addon.errors import VoodooError
-from ..voodoo_addon.retarget import (
+from ..voodoo_addon.takes.rig import (
     fit_mapping,
     mapping_from_list,
     mode_offsets,

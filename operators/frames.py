@@ -12,7 +12,7 @@ import bpy
 import numpy as np
 
 from ..voodoo_addon.errors import VoodooError
-from ..voodoo_addon.sources import open_source
+from ..voodoo_addon.media.sources import open_source
 
 #: Points sampled on each Bezier segment of a mask spline.
 BEZIER_SAMPLES = 16

@@ -1,6 +1,6 @@
 import bpy
 
-from ..voodoo_addon.blob import BlobOptions, build_blob
+from ..voodoo_addon.blob.build import BlobOptions, build_blob
 from ..voodoo_addon.errors import VoodooError
 from . import overlay
 from .common import reports_errors, settings

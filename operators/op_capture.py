@@ -1,6 +1,6 @@
 import bpy
 
-from ..voodoo_addon.sources import open_source
+from ..voodoo_addon.media.sources import open_source
 from .common import reports_errors, settings
 from .frames import active_clip, image_from_rgb, open_clip, source_index
 from .recorder import FOOTAGE_DIR

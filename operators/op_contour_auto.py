@@ -1,7 +1,7 @@
 import bpy
 
+from ..voodoo_addon.blob.segment import segment_contour
 from ..voodoo_addon.errors import VoodooError
-from ..voodoo_addon.segment import segment_contour
 from .common import reports_errors, settings, store_contour
 from .frames import rgb_from_image
 

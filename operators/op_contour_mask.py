@@ -1,6 +1,6 @@
 import bpy
 
-from ..voodoo_addon.contour import simplify_contour, validate_contour
+from ..voodoo_addon.blob.outline import simplify_contour, validate_contour
 from ..voodoo_addon.errors import VoodooError
 from .common import reports_errors, settings, store_contour
 from .frames import mask_contour

@@ -1,6 +1,6 @@
 import bpy
 
-from ..voodoo_addon.contour import validate_contour
+from ..voodoo_addon.blob.outline import validate_contour
 from ..voodoo_addon.errors import VoodooError
 from . import overlay
 from .common import reports_errors, settings, store_contour

@@ -10,10 +10,10 @@ import bpy
 import numpy as np
 
 from ..voodoo_addon.errors import VoodooError
-from ..voodoo_addon.images import to_uint8_bgr
-from ..voodoo_addon.retarget import fit_mapping, mode_offsets, rigid_transforms, unit
-from ..voodoo_addon.sources import open_source
-from ..voodoo_addon.take import Take
+from ..voodoo_addon.media.images import to_uint8_bgr
+from ..voodoo_addon.media.sources import open_source
+from ..voodoo_addon.takes.rig import fit_mapping, mode_offsets, rigid_transforms, unit
+from ..voodoo_addon.takes.take import Take
 from ..voodoo_addon.tracking import Tracker
 from . import overlay
 from .apply import apply_take, check_target, layout_for, rest_vertices, shape_for_mode

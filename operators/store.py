@@ -11,9 +11,9 @@ import uuid
 import bpy
 import numpy as np
 
-from ..voodoo_addon.blob import ActiveBlob, blob_from_bytes, blob_to_bytes
+from ..voodoo_addon.blob.model import ActiveBlob, blob_from_bytes, blob_to_bytes
 from ..voodoo_addon.errors import VoodooError
-from ..voodoo_addon.take import Take, take_from_bytes, take_to_bytes
+from ..voodoo_addon.takes.take import Take, take_from_bytes, take_to_bytes
 
 BLOB_KEY = "voodoo_blob"
 #: A fresh id per stored blob, so the parsed blob can be cached without reading its bytes.

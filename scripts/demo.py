@@ -410,14 +410,16 @@ def run(args: argparse.Namespace) -> None:
     take = store.load_take(scene.voodoo.blob, take_name)
     frames = apply.take_frames(scene.voodoo.blob, take_name, take)
     with steps(f"Render {scene.frame_end - scene.frame_start + 1} frames with Workbench"):
-        renders = render_frames(scene, SCRATCH / "frames", sub("voodoo_addon.take").ProgressBar)
+        renders = render_frames(
+            scene, SCRATCH / "frames", sub("voodoo_addon.takes.take").ProgressBar
+        )
     with steps("Compose preview.mp4"):
-        draw_mesh = sub("voodoo_addon.preview").draw_mesh
+        draw_mesh = sub("voodoo_addon.blob.preview").draw_mesh
         written = write_preview(out / PREVIEW_NAME, take, frames, renders, draw_mesh)
         print(f"      {written} frames")
     with steps("Plot the modes"):
         modes = apply.layout_for(blob, take).modes
-        values = take.params[:, modes] / sub("voodoo_addon.retarget").unit(blob)
+        values = take.params[:, modes] / sub("voodoo_addon.takes.rig").unit(blob)
         names = [str(n) for n in take.param_names[modes]]
         title = f"{DOLL_NAME}: take '{take_name}' on {SAMPLE_CLIP.name}, {len(take)} frames"
         plot_take(out / MODES_NAME, take, frames, values, names, title)

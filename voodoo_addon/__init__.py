@@ -10,22 +10,15 @@ Plain Python (numpy, SciPy, OpenCV, triangle); never imports Blender. Typical us
         take = track_source(blob, src)
 """
 
-from .blob import (
-    ActiveBlob,
-    BlobOptions,
-    blob_from_bytes,
-    blob_to_bytes,
-    build_blob,
-    load_blob,
-    save_blob,
-)
-from .contour import load_contour_json, save_contour_json, simplify_contour, validate_contour
+from .blob.build import BlobOptions, build_blob
+from .blob.interpolants import GaussianInterpolant
+from .blob.model import ActiveBlob, blob_from_bytes, blob_to_bytes, load_blob, save_blob
+from .blob.outline import load_contour_json, save_contour_json, simplify_contour, validate_contour
+from .blob.segment import mask_contour, segment_contour, segment_mask
 from .errors import VoodooError
-from .images import read_image, to_float_rgb
-from .interpolants import GaussianInterpolant
-from .segment import mask_contour, segment_contour, segment_mask
-from .sources import FrameSource, open_source
-from .take import Take, load_take, save_take, track_source
+from .media.images import to_float_rgb
+from .media.sources import FrameSource, open_source, read_image
+from .takes.take import Take, load_take, save_take, track_source
 from .tracking import Tracker, TrackerOptions, TrackResult
 from .tracking.norms import LorentzianNorm, QuadraticNorm, RobustNorm
 from .tracking.params import ParamLayout

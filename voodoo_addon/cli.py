@@ -15,7 +15,7 @@ from .errors import VoodooError
 
 
 def _blob_options(args):
-    from .blob import BlobOptions
+    from .blob.build import BlobOptions
 
     return BlobOptions(
         n_modes=args.modes,
@@ -38,10 +38,12 @@ def _add_blob_args(p):
 
 
 def cmd_blob(args) -> int:
-    from .blob import build_blob, save_blob
-    from .contour import load_contour_json
-    from .images import read_image, write_image
-    from .preview import modes_picture
+    from .blob.build import build_blob
+    from .blob.model import save_blob
+    from .blob.outline import load_contour_json
+    from .blob.preview import modes_picture
+    from .media.images import write_image
+    from .media.sources import read_image
 
     frame = read_image(args.frame)
     blob = build_blob(frame, load_contour_json(args.contour), _blob_options(args))
@@ -58,10 +60,11 @@ def cmd_blob(args) -> int:
 
 
 def cmd_track(args) -> int:
-    from .blob import build_blob, load_blob
-    from .contour import load_contour_json
-    from .sources import open_source
-    from .take import ProgressBar, save_take, track_source
+    from .blob.build import build_blob
+    from .blob.model import load_blob
+    from .blob.outline import load_contour_json
+    from .media.sources import open_source
+    from .takes.take import ProgressBar, save_take, track_source
     from .tracking import Tracker
 
     with open_source(args.video) as src:
@@ -86,8 +89,8 @@ def cmd_track(args) -> int:
 
 
 def cmd_check(args) -> int:
-    from .sources import open_source
-    from .take import load_take
+    from .media.sources import open_source
+    from .takes.take import load_take
     from .tracking.quality import check_take
 
     take = load_take(args.take)
@@ -122,10 +125,11 @@ def cmd_check(args) -> int:
 
 
 def cmd_segment(args) -> int:
-    from .contour import save_contour_json
-    from .images import read_image, to_uint8_bgr, write_image
-    from .preview import draw_outline
-    from .segment import segment_contour
+    from .blob.outline import save_contour_json
+    from .blob.preview import draw_outline
+    from .blob.segment import segment_contour
+    from .media.images import to_uint8_bgr, write_image
+    from .media.sources import read_image
 
     frame = read_image(args.frame)
     contour = segment_contour(frame, point=args.point, box=args.box)
@@ -166,7 +170,7 @@ def cmd_bench(args) -> int:
 
 
 def cmd_synth(args) -> int:
-    from .contour import save_contour_json
+    from .blob.outline import save_contour_json
     from .devtools.scenarios import write_scenario
 
     contour = write_scenario(args.scenario, args.out, frames=args.frames, size=tuple(args.size))

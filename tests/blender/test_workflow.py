@@ -20,7 +20,7 @@ def _prediction(sub, obj, row):
     """What the engine says the target looks like at a take row."""
     store = sub("operators.store")
     apply = sub("operators.apply")
-    rt = sub("voodoo_addon.retarget")
+    rt = sub("voodoo_addon.takes.rig")
     s = bpy.context.scene.voodoo
     link = obj[apply.LINK_KEY]
     blob = store.load_blob(s.blob)
@@ -90,7 +90,7 @@ def test_doll_shaped_target_follows_tracked_nodes(prepared, sub):
     ctx = prepared
     s = ctx.scene.voodoo
     store = sub("operators.store")
-    rt = sub("voodoo_addon.retarget")
+    rt = sub("voodoo_addon.takes.rig")
     blob = store.load_blob(s.blob)
     # the doll laid onto the XZ plane at 1 unit = 50 px, centred at the origin
     v = np.zeros((blob.n_nodes, 3))
@@ -265,7 +265,7 @@ def test_live_camera_take_is_time_stamped_and_saved(
     """A camera at 15 fps into a 30 fps scene: frames land on every other scene frame, the
     footage is kept as a clip. (No webcam here: a source that behaves like one stands in.)"""
     ctx = prepared
-    engine_sources = sub("voodoo_addon.sources")
+    engine_sources = sub("voodoo_addon.media.sources")
     recorder = sub("operators.recorder")
 
     class FakeCamera(engine_sources.ArraySource):

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from voodoo_addon.blob import BlobOptions, build_blob
+from voodoo_addon.blob.build import BlobOptions, build_blob
 from voodoo_addon.devtools.synthetic import Pose, foam_scene
 
 #: The repository root (holds the extension's __init__.py and voodoo_addon/).

@@ -10,14 +10,13 @@ import cv2
 import numpy as np
 import pytest
 
-from voodoo_addon.blob import (
+from voodoo_addon.blob.build import BlobOptions, build_blob
+from voodoo_addon.blob.model import (
     FORMAT_KIND,
     FORMAT_VERSION,
     ActiveBlob,
-    BlobOptions,
     blob_from_bytes,
     blob_to_bytes,
-    build_blob,
     load_blob,
     save_blob,
 )

@@ -13,11 +13,11 @@ import cv2
 import numpy as np
 import pytest
 
-from voodoo_addon.blob import load_blob
-from voodoo_addon.contour import save_contour_json
+from voodoo_addon.blob.model import load_blob
+from voodoo_addon.blob.outline import save_contour_json
 from voodoo_addon.devtools.scenarios import scenario_take
 from voodoo_addon.devtools.synthetic import write_frames
-from voodoo_addon.images import write_image
+from voodoo_addon.media.images import write_image
 from voodoo_addon.tracking.params import SIMILARITY
 
 N_FRAMES = 36  # more than 30: the progress bar is shown unless --quiet

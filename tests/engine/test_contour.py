@@ -6,7 +6,7 @@ import cv2
 import numpy as np
 import pytest
 
-from voodoo_addon.contour import (
+from voodoo_addon.blob.outline import (
     load_contour_json,
     resample_contour,
     save_contour_json,

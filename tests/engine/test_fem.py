@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import scipy.linalg
 
-from voodoo_addon.fem import (
+from voodoo_addon.blob.fem import (
     MAX_QUADRATURE_POINTS,
     assemble,
     m_orthonormalize,
@@ -17,8 +17,8 @@ from voodoo_addon.fem import (
     select_modes,
     similarity_fields,
 )
-from voodoo_addon.interpolants import GaussianInterpolant
-from voodoo_addon.labels import field_matrix
+from voodoo_addon.blob.interpolants import GaussianInterpolant
+from voodoo_addon.blob.labels import field_matrix
 
 BLOBS = ["blob", "fe_blob", "fe_blob_scale"]
 

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from voodoo_addon.blob import build_blob
+from voodoo_addon.blob.build import build_blob
 from voodoo_addon.devtools.scenarios import scenario_take
 from voodoo_addon.tracking.folding import BACKOFF, MAX_AREA, MIN_AREA, FoldGuard, _first_crossing
 

@@ -7,7 +7,8 @@ import pytest
 
 from voodoo_addon.devtools.synthetic import painted_foam, write_frames
 from voodoo_addon.errors import VoodooError
-from voodoo_addon.images import read_image, to_float_rgb, to_uint8_bgr, write_image
+from voodoo_addon.media.images import to_float_rgb, to_uint8_bgr, write_image
+from voodoo_addon.media.sources import read_image
 
 
 def test_uint8_and_uint16_scale_to_unit_range():

@@ -5,11 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from voodoo_addon.contour import validate_contour
+from voodoo_addon.blob.interpolants import GaussianInterpolant
+from voodoo_addon.blob.mesh import triangulate
+from voodoo_addon.blob.outline import validate_contour
 from voodoo_addon.devtools.synthetic import ellipse_contour
 from voodoo_addon.errors import VoodooError
-from voodoo_addon.interpolants import GaussianInterpolant
-from voodoo_addon.mesh import triangulate
 
 
 def _mesh_nodes():

@@ -36,7 +36,7 @@ for name in names:
         continue  # running it would parse this process's argv
     importlib.import_module(name)
 
-from voodoo_addon.blob import BlobOptions, build_blob
+from voodoo_addon.blob.build import BlobOptions, build_blob
 from voodoo_addon.devtools.scenarios import scenario_take
 from voodoo_addon.tracking import Tracker
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from voodoo_addon.blob import BlobOptions, build_blob
-from voodoo_addon.labels import FIELDS, SINGLE_SHARE, field_matrix, label_modes
+from voodoo_addon.blob.build import BlobOptions, build_blob
+from voodoo_addon.blob.labels import FIELDS, SINGLE_SHARE, field_matrix, label_modes
 
 
 def _field(blob, name):

@@ -6,17 +6,17 @@ import cv2
 import numpy as np
 import pytest
 
-from voodoo_addon.blob import build_blob
-from voodoo_addon.contour import signed_area, validate_contour
-from voodoo_addon.devtools.synthetic import Pose, ellipse_contour, foam_scene
-from voodoo_addon.errors import VoodooError
-from voodoo_addon.mesh import (
+from voodoo_addon.blob.build import build_blob
+from voodoo_addon.blob.mesh import (
     barycentric,
     rasterize,
     triangle_angles,
     triangle_areas,
     triangulate,
 )
+from voodoo_addon.blob.outline import signed_area, validate_contour
+from voodoo_addon.devtools.synthetic import Pose, ellipse_contour, foam_scene
+from voodoo_addon.errors import VoodooError
 
 
 def _star(points: int, outer: float, inner: float, centre=(160.0, 120.0)) -> np.ndarray:

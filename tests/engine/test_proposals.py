@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from voodoo_addon.blob import build_blob
+from voodoo_addon.blob.build import build_blob
 from voodoo_addon.devtools.synthetic import Pose, foam_scene
 from voodoo_addon.tracking.params import ParamLayout, node_positions
 from voodoo_addon.tracking.proposals import FeatureMatcher, MotionProposal, PointFit

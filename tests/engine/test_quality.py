@@ -5,11 +5,11 @@ import json
 import numpy as np
 import pytest
 
-from voodoo_addon.blob import build_blob
+from voodoo_addon.blob.build import build_blob
 from voodoo_addon.cli import main
 from voodoo_addon.devtools.scenarios import scenario_take
 from voodoo_addon.devtools.synthetic import Pose, foam_scene, write_frames
-from voodoo_addon.take import Take, save_take
+from voodoo_addon.takes.take import Take, save_take
 from voodoo_addon.tracking import Tracker
 from voodoo_addon.tracking.quality import folded_triangles, score_track
 

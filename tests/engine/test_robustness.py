@@ -8,7 +8,7 @@ side by side with OpenCV's KLT and DIS flow on the mesh nodes (devtools.clips).
 import numpy as np
 import pytest
 
-from voodoo_addon.blob import build_blob
+from voodoo_addon.blob.build import build_blob
 from voodoo_addon.devtools.clips import clip_suite, ratios, run_clip
 from voodoo_addon.devtools.scenarios import scenario_take
 from voodoo_addon.devtools.synthetic import Pose, foam_scene

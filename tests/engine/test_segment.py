@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from voodoo_addon.contour import signed_area, validate_contour
+from voodoo_addon.blob.outline import signed_area, validate_contour
+from voodoo_addon.blob.segment import mask_contour, segment_contour, segment_mask
 from voodoo_addon.devtools.synthetic import Pose, foam_scene
 from voodoo_addon.errors import VoodooError
-from voodoo_addon.segment import mask_contour, segment_contour, segment_mask
 
 
 @pytest.fixture(scope="module", params=[(320, 240, 8000, 0), (400, 300, 14000, 3)])

@@ -7,8 +7,8 @@ import pytest
 
 from voodoo_addon.devtools.synthetic import painted_foam, write_frames
 from voodoo_addon.errors import VoodooError
-from voodoo_addon.images import write_image
-from voodoo_addon.sources import ArraySource, CaptureSource, ImageFolderSource, open_source
+from voodoo_addon.media.images import write_image
+from voodoo_addon.media.sources import ArraySource, CaptureSource, ImageFolderSource, open_source
 
 N_FRAMES, W, H = 7, 64, 48
 

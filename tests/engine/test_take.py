@@ -7,11 +7,11 @@ import io
 import numpy as np
 import pytest
 
-from voodoo_addon.blob import build_blob
+from voodoo_addon.blob.build import build_blob
 from voodoo_addon.devtools.scenarios import scenario_take
 from voodoo_addon.errors import VoodooError
-from voodoo_addon.sources import ArraySource
-from voodoo_addon.take import ProgressBar, Take, load_take, save_take, track_source
+from voodoo_addon.media.sources import ArraySource
+from voodoo_addon.takes.take import ProgressBar, Take, load_take, save_take, track_source
 from voodoo_addon.tracking import Tracker
 
 N = 12

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 import skimage.data
 
-from voodoo_addon.blob import build_blob
+from voodoo_addon.blob.build import build_blob
 from voodoo_addon.devtools.scenarios import scenario_poses, scenario_take
 from voodoo_addon.devtools.synthetic import Pose, foam_scene
 from voodoo_addon.errors import VoodooError

@@ -16,7 +16,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from ..blob import BlobOptions, build_blob
+from ..blob.build import BlobOptions, build_blob
 from ..tracking import Tracker
 from .synthetic import Pose, foam_scene
 
@@ -120,8 +120,8 @@ def lattice_truth(path):
 
 def run_sample_take() -> dict | None:
     """Track the bundled sample take against its ground truth (None when it is absent)."""
-    from ..contour import load_contour_json
-    from ..sources import open_source
+    from ..blob.outline import load_contour_json
+    from ..media.sources import open_source
 
     clip, outline, truth_file = (
         SAMPLES / "sample_take.mp4",

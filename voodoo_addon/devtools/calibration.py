@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..blob import build_blob
-from ..images import to_float_rgb
+from ..blob.build import build_blob
+from ..media.images import to_float_rgb
 from ..tracking import Tracker
 from .clips import LatticeTruth, clip_suite, read_clip
 

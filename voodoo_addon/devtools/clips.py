@@ -17,10 +17,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..blob import build_blob
-from ..contour import load_contour_json
-from ..images import to_float_rgb
-from ..sources import open_source
+from ..blob.build import build_blob
+from ..blob.outline import load_contour_json
+from ..media.images import to_float_rgb
+from ..media.sources import open_source
 from ..tracking import Tracker
 from ..tracking.quality import score_track
 from .baselines import track_dis, track_klt

@@ -18,7 +18,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from ..contour import load_contour_json, save_contour_json
+from ..blob.outline import load_contour_json, save_contour_json
 from .bench import SAMPLES
 
 SIZE = (1920, 1080)

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import cv2
 import numpy as np
 
-from ..labels import FIELDS
+from ..blob.labels import FIELDS
 from ..tracking.params import rotation
 
 
@@ -248,7 +248,7 @@ def write_frames(path, frames, fps: float = 30.0) -> None:
     """
     from pathlib import Path
 
-    from ..images import to_uint8_bgr, write_image
+    from ..media.images import to_uint8_bgr, write_image
 
     path = Path(path)
     if not path.suffix:

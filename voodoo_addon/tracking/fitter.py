@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..blob import ActiveBlob
+from ..blob.model import ActiveBlob
 from .confidence import Quality, QualityMeter
 from .decomposition import DifferenceDecomposition, Evaluation, LevelFit, Stopping
 from .folding import FoldGuard

@@ -11,8 +11,8 @@ import cv2
 import numpy as np
 import scipy.sparse
 
-from ..blob import ActiveBlob
-from ..mesh import TriMesh, rasterize
+from ..blob.mesh import TriMesh, rasterize
+from ..blob.model import ActiveBlob
 from .params import ParamLayout, node_positions
 from .photometry import Patches, group_triangles
 from .warp import REMAP_ROW, WarpBackend, WarpGeometry

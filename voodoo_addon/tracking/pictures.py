@@ -12,7 +12,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from ..images import blur
+from ..media.images import blur
 
 
 def to_float(pixels: np.ndarray) -> np.ndarray:

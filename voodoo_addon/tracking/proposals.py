@@ -19,7 +19,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from ..blob import ActiveBlob
+from ..blob.model import ActiveBlob
 from .params import ParamLayout, node_positions, rotation, similarity_from_matrix
 
 #: Fewest agreeing points accepted as evidence.

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from ..mesh import TriMesh, rasterize, triangle_areas
+from ..blob.mesh import TriMesh, rasterize, triangle_areas
 
 #: Side of the NCC window, pixels.
 WINDOW = 15

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..blob import ActiveBlob
+from ..blob.model import ActiveBlob
 from ..errors import VoodooError
 from .fitter import CoarseToFineFitter, Fit
 from .norms import LorentzianNorm, RobustNorm

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import VoodooError
+from ..errors import VoodooError
 
 #: Polygons smaller than this many square pixels cannot carry a texture worth tracking.
 MIN_AREA_PX = 50.0

@@ -11,8 +11,8 @@ from dataclasses import dataclass
 import numpy as np
 import triangle as tr
 
-from .contour import signed_area
-from .errors import VoodooError
+from ..errors import VoodooError
+from .outline import signed_area
 
 #: Default number of triangles the refinement aims for: with the boundary vertices this gives
 #: 60-120 nodes for any blob size (the paper used 72 nodes for 8.5k pixels, 61 for 17k).

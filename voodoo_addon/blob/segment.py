@@ -10,8 +10,8 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from .contour import simplify_contour, validate_contour
-from .errors import VoodooError
+from ..errors import VoodooError
+from .outline import simplify_contour, validate_contour
 
 #: Work on pictures no larger than this (longer side), for speed.
 WORK_SIZE = 480

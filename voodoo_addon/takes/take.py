@@ -11,10 +11,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .blob import ActiveBlob
-from .errors import VoodooError, read_file, write_file
-from .sources import FrameSource
-from .tracking import Tracker
+from ..blob.model import ActiveBlob
+from ..errors import VoodooError, read_file, write_file
+from ..media.sources import FrameSource
+from ..tracking import Tracker
 
 TAKE_KIND = "voodoo-take"
 TAKE_VERSION = 2

@@ -15,9 +15,10 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from .errors import VoodooError
+from ..errors import VoodooError
 from .images import to_float_rgb
 
+VIDEO_SUFFIXES = {".mp4", ".avi", ".mov", ".mkv", ".webm", ".m4v", ".mpg", ".mpeg", ".ogv"}
 IMAGE_SUFFIXES = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".exr", ".webp"}
 
 
@@ -267,3 +268,30 @@ def open_source(spec) -> FrameSource:
     if not path.exists():
         raise VoodooError(f"{path} does not exist.")
     return CaptureSource(str(path))
+
+
+def read_image(path) -> np.ndarray:
+    """Read a picture file, or the first frame of a video file.
+
+    Returns
+    -------
+    (H, W, 3) float32 RGB in [0, 1]
+
+    Raises
+    ------
+    VoodooError
+        If the file is missing or cannot be decoded.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise VoodooError(f"{path} does not exist.")
+    if path.suffix.lower() in VIDEO_SUFFIXES:
+        with open_source(path) as src:
+            frame = src.read()
+            if frame is None:
+                raise VoodooError(f"{path} holds no readable frame.")
+            return frame.image
+    img = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
+    if img is None:
+        raise VoodooError(f"{path} is not a picture OpenCV can read (PNG, JPEG, TIFF, ...).")
+    return to_float_rgb(img, bgr=img.ndim == 3)

@@ -2,14 +2,10 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import cv2
 import numpy as np
 
-from .errors import VoodooError
-
-VIDEO_SUFFIXES = {".mp4", ".avi", ".mov", ".mkv", ".webm", ".m4v", ".mpg", ".mpeg", ".ogv"}
+from ..errors import VoodooError
 
 
 def to_float_rgb(image: np.ndarray, bgr: bool = False) -> np.ndarray:
@@ -56,35 +52,6 @@ def blur(image: np.ndarray, sigma: float) -> np.ndarray:
         return image
     k = 2 * int(np.ceil(2.5 * sigma)) + 1
     return cv2.GaussianBlur(image, (k, k), sigma, borderType=cv2.BORDER_REFLECT)
-
-
-def read_image(path) -> np.ndarray:
-    """Read a picture file, or the first frame of a video file.
-
-    Returns
-    -------
-    (H, W, 3) float32 RGB in [0, 1]
-
-    Raises
-    ------
-    VoodooError
-        If the file is missing or cannot be decoded.
-    """
-    path = Path(path)
-    if not path.exists():
-        raise VoodooError(f"{path} does not exist.")
-    if path.suffix.lower() in VIDEO_SUFFIXES:
-        from .sources import open_source
-
-        with open_source(path) as src:
-            frame = src.read()
-            if frame is None:
-                raise VoodooError(f"{path} holds no readable frame.")
-            return frame.image
-    img = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
-    if img is None:
-        raise VoodooError(f"{path} is not a picture OpenCV can read (PNG, JPEG, TIFF, ...).")
-    return to_float_rgb(img, bgr=img.ndim == 3)
 
 
 def write_image(path, image: np.ndarray) -> None:

@@ -18,9 +18,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .blob import ActiveBlob
-from .errors import VoodooError
-from .tracking.params import ParamLayout
+from ..blob.model import ActiveBlob
+from ..errors import VoodooError
+from ..tracking.params import ParamLayout
 
 #: Plane axes (first, second) and the remaining depth axis, by name.
 AXES = {"XY": (0, 1, 2), "XZ": (0, 2, 1), "YZ": (1, 2, 0)}

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .errors import VoodooError
+from ..errors import VoodooError
 
 
 class GaussianInterpolant:

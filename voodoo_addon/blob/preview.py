@@ -5,8 +5,8 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from .blob import ActiveBlob
-from .images import to_uint8_bgr
+from ..media.images import to_uint8_bgr
+from .model import ActiveBlob
 
 MESH = (60, 230, 255)  # BGR
 GHOST = (150, 150, 150)

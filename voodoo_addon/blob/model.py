@@ -1,8 +1,8 @@
-"""The active blob: mesh + Gaussian-interpolant FE modes + blurred colour template (§4, §7).
+"""The active blob (paper §4, §7) and its file: mesh, Gaussian-interpolant FE modes, template.
 
-``build_blob(frame, contour)`` is the one call that turns an outline on a frame into
-everything the tracker and the character mapping need; ``save_blob``/``load_blob`` persist it
-as a pickle-free ``.npz`` with a format version.
+:class:`ActiveBlob` holds everything the tracker and the character mapping need;
+``blob_to_bytes``/``blob_from_bytes`` (and ``save_blob``/``load_blob`` for files) persist it
+as a pickle-free ``.npz`` with a format version. :mod:`.build` makes one from an outline.
 """
 
 from __future__ import annotations
@@ -14,60 +14,12 @@ from functools import cached_property
 
 import numpy as np
 
-from .contour import simplify_contour, validate_contour
-from .errors import VoodooError, read_file, write_file
-from .fem import assemble, quadrature_points, rms_radius, select_modes, similarity_fields
-from .images import blur
+from ..errors import VoodooError, read_file, write_file
 from .interpolants import GaussianInterpolant
-from .labels import label_modes
-from .mesh import PixelSet, TriMesh, rasterize, triangulate
+from .mesh import PixelSet, TriMesh
 
 FORMAT_KIND = "voodoo-active-blob"
 FORMAT_VERSION = 1
-#: Template crops start on multiples of this, so pyramid levels stay pixel-aligned.
-ALIGN = 16
-#: Names of the exact similarity fields, in the order of ``ActiveBlob.constrained``.
-SIMILARITY_LABELS = ("translate-x", "translate-y", "rotate", "scale")
-
-
-@dataclass(frozen=True)
-class BlobOptions:
-    """How a blob is built. The defaults suit blobs of 5k-60k pixels without tuning.
-
-    Attributes
-    ----------
-    n_modes : int
-        Elastic modes kept (the paper used 14 and 20).
-    min_angle : float
-        Smallest triangle angle, degrees (Ruppert refinement).
-    max_area : float or None
-        Largest triangle area in square pixels; None aims at about 80 triangles.
-    simplify_tolerance : float
-        Tolerance band for the outline, pixels.
-    blur_sigma : float
-        Gaussian blur of the template texture, pixels (§7).
-    poisson : float
-        Poisson ratio of the plane-stress material.
-    width_factor : float
-        Gaussian interpolant width over the mean nearest-node distance.
-    separate_scale : bool
-        Keep isotropic scale out of the elastic modes (it is tracked exactly by the
-        similarity transform). When False only the rigid motions are separated.
-    poly_degree : int
-        0: the modes are the lowest FE vibration modes, plain eigenvectors of
-        ``K phi = w^2 M phi`` (the paper). d > 0: polynomial fields up to degree d come first,
-        by Rayleigh-Ritz on the same M and K (see :func:`voodoo_addon.fem.select_modes`).
-    """
-
-    n_modes: int = 20
-    min_angle: float = 25.0
-    max_area: float | None = None
-    simplify_tolerance: float = 0.75
-    blur_sigma: float = 1.2
-    poisson: float = 0.3
-    width_factor: float = 1.0
-    separate_scale: bool = True
-    poly_degree: int = 3
 
 
 @dataclass(frozen=True, eq=False)
@@ -178,105 +130,6 @@ class ActiveBlob:
     def deformed(self, amplitudes: np.ndarray) -> np.ndarray:
         """Node positions (m, 2) for elastic amplitudes (k,) -- Eq. 3, no similarity."""
         return self.vertices + (self.modes[:, : len(amplitudes)] @ amplitudes).reshape(-1, 2)
-
-
-def _texture_crop(frame: np.ndarray, contour: np.ndarray, sigma: float):
-    """Blurred crop around the contour, origin aligned to :data:`ALIGN`."""
-    h, w = frame.shape[:2]
-    lo, hi = contour.min(axis=0), contour.max(axis=0)
-    margin = 32 + 0.25 * float((hi - lo).max())
-    x0 = int(max(0, np.floor((lo[0] - margin) / ALIGN) * ALIGN))
-    y0 = int(max(0, np.floor((lo[1] - margin) / ALIGN) * ALIGN))
-    x1 = int(min(w, np.ceil(hi[0] + margin) + 1))
-    y1 = int(min(h, np.ceil(hi[1] + margin) + 1))
-    crop = blur(np.ascontiguousarray(frame[y0:y1, x0:x1], dtype=np.float32), sigma)
-    return crop, np.array([x0, y0], dtype=np.int64)
-
-
-def build_blob(frame: np.ndarray, contour, options: BlobOptions | None = None) -> ActiveBlob:
-    """Build an active blob from a frame and an outline on it.
-
-    Parameters
-    ----------
-    frame : (H, W, 3) float32
-        RGB in [0, 1] (see :func:`voodoo_addon.images.to_float_rgb`).
-    contour : array_like (k, 2)
-        Closed polygon in the frame's pixel coordinates.
-    options : BlobOptions, optional
-
-    Returns
-    -------
-    ActiveBlob
-
-    Raises
-    ------
-    VoodooError
-        For a bad outline (too few points, tiny, self-intersecting, off the frame, NaN) or
-        a frame that is not an RGB picture.
-    """
-    opt = options or BlobOptions()
-    frame = np.asarray(frame)
-    if frame.ndim != 3 or frame.shape[2] != 3 or frame.dtype != np.float32:
-        raise VoodooError("The frame must be a float32 RGB picture (H, W, 3).")
-    h, w = frame.shape[:2]
-    pts = validate_contour(contour, frame_size=(w, h))
-    pts = validate_contour(simplify_contour(pts, opt.simplify_tolerance), frame_size=(w, h))
-    mesh = triangulate(pts, min_angle=opt.min_angle, max_area=opt.max_area)
-    pixels = rasterize(mesh)
-    warnings = []
-    if len(mesh.vertices) > 400:
-        warnings.append(
-            f"The mesh has {len(mesh.vertices)} nodes; building and tracking will be slow. "
-            "Raise the maximum triangle area."
-        )
-    interp = GaussianInterpolant(mesh.vertices, width_factor=opt.width_factor)
-    quad = quadrature_points(pixels.coords)
-    mass, stiff = assemble(interp, quad, opt.poisson)
-    centre = pixels.coords.mean(axis=0)
-    length = rms_radius(pixels.coords)
-    sim = similarity_fields(mesh.vertices, centre, length)
-    constraints = sim if opt.separate_scale else sim[:, :3]
-    available = 2 * len(mesh.vertices) - constraints.shape[1]
-    k = int(opt.n_modes)
-    if k < 0:
-        raise VoodooError("The number of modes cannot be negative.")
-    if k > available:
-        warnings.append(f"Only {available} modes exist for this mesh; using all of them.")
-        k = available
-    modal = select_modes(
-        mass, stiff, constraints, k, mesh.vertices, centre, length, opt.poly_degree
-    )
-    shapes, penalty = modal.shapes, modal.stiffness
-    labels, signs, match = label_modes(
-        shapes, mass, modal.constrained, mesh.vertices, centre, length
-    )
-    shapes = shapes * signs
-    texture, origin = _texture_crop(frame, pts, opt.blur_sigma)
-    return ActiveBlob(
-        contour=pts,
-        vertices=mesh.vertices,
-        triangles=mesh.triangles,
-        boundary=mesh.boundary,
-        centre=centre,
-        length=length,
-        width=interp.width,
-        poisson=float(opt.poisson),
-        mass=mass,
-        stiffness=stiff,
-        constrained=modal.constrained,
-        modes=shapes,
-        stiffness_penalty=penalty,
-        labels=np.array(labels, dtype=str),
-        label_match=match,
-        texture=texture,
-        texture_origin=origin,
-        frame_size=np.array([w, h], dtype=np.int64),
-        blur_sigma=float(opt.blur_sigma),
-        pixel_coords=pixels.coords,
-        pixel_triangle=pixels.triangle,
-        pixel_weights=pixels.weights,
-        warnings=tuple(warnings),
-    )
 
 
 # ---------------------------------------------------------------------------- persistence

@@ -1,0 +1,1 @@
+"""Frames in and pictures out: video files, folders of pictures, cameras; conversions."""
