@@ -13,13 +13,7 @@ from bpy_extras import anim_utils
 from mathutils import Matrix
 
 from ..voodoo_addon.errors import VoodooError
-from ..voodoo_addon.takes.rig import (
-    fit_mapping,
-    mapping_from_list,
-    mode_offsets,
-    rigid_transforms,
-    unit,
-)
+from ..voodoo_addon.takes.rig import Rig, mapping_from_list
 from ..voodoo_addon.tracking.params import ParamLayout
 from .store import load_blob, load_take
 
@@ -65,12 +59,13 @@ def key_name(blob_mesh, label: str) -> str:
 
 
 def layout_for(blob, take) -> ParamLayout:
-    """The parameter layout a take was recorded with."""
-    extra = len(take.param_names) - 4 - blob.n_modes
-    photometric = {6: "channel", 2: "global", 0: "none"}.get(extra)
-    if photometric is None:
-        raise VoodooError("The take does not belong to this blob (its parameters differ).")
-    return ParamLayout(tuple(str(s) for s in blob.labels), photometric)
+    """The parameter layout a take was recorded with (by its parameters' names)."""
+    try:
+        return ParamLayout.from_names(blob.labels, take.param_names)
+    except ValueError:
+        raise VoodooError(
+            "The take does not belong to this blob (its parameters differ)."
+        ) from None
 
 
 def push_to_nla(id_data) -> None:
@@ -157,45 +152,45 @@ def apply_take(scene, obj, blob_mesh, take_name: str) -> dict:
     blob = load_blob(blob_mesh)
     take = load_take(blob_mesh, take_name)
     frames = take_frames(blob_mesh, take_name, take)
-    layout = layout_for(blob, take)
     rest = rest_vertices(obj)
-    mapping = fit_mapping(blob, rest, s.axes)
+    modes = [m for m in s.modes if m.enabled and m.index < blob.n_modes]
+    use = (s.apply_location, s.apply_rotation, s.apply_scale)
+    rig = Rig(blob, layout_for(blob, take), rest, s.axes, [m.index for m in modes], use)
     good = ~take.lost
     if not good.any():
         raise VoodooError(f"Take {take_name!r} lost the blob in every frame; nothing to apply.")
-    modes = [m for m in s.modes if m.enabled and m.index < blob.n_modes]
-    offsets = mode_offsets(blob, mapping, rest, [m.index for m in modes])
 
     push_to_nla(obj)
     if obj.data.shape_keys is not None:
         push_to_nla(obj.data.shape_keys)
 
     rest_matrix = np.array(obj.matrix_basis)
-    shapes = [shape_for_mode(obj, blob_mesh, m, offsets[i], rest) for i, m in enumerate(modes)]
+    shapes = [shape_for_mode(obj, blob_mesh, m, rig.offsets[i], rest) for i, m in enumerate(modes)]
     action = bpy.data.actions.new(take_name)
     slot_obj, bag_obj = _channelbag(action, obj, obj.name)
     f = frames[good].astype(np.float64)
-    u = unit(blob)
     if shapes:
         key = obj.data.shape_keys
         slot_key, bag_key = _channelbag(action, key, key.name)
-        for m, kb in zip(modes, shapes, strict=True):
-            values = take.params[good, layout.modes.start + m.index] / u
-            fc = _write_curve(bag_key, f'key_blocks["{kb.name}"].value', 0, f, values, "Modes")
+        values = rig.values(take.params[good])
+        for i, (m, kb) in enumerate(zip(modes, shapes, strict=True)):
+            path = f'key_blocks["{kb.name}"].value'
+            fc = _write_curve(bag_key, path, 0, f, values[:, i], "Modes")
             fc.mute = not m.enabled
         key.animation_data_create()
         key.animation_data.action = action
         key.animation_data.action_slot = slot_key
-    deltas = rigid_transforms(take.params[good], layout, blob, mapping)
-    locs, rot_path, rots, scales = _transform_curves(obj, rest_matrix @ deltas)
-    for path, data, use in (
+    # All of the similarity is keyed; the switches mute curves (see refresh_modes).
+    moves = rig.transforms(take.params[good], use=(True, True, True))
+    locs, rot_path, rots, scales = _transform_curves(obj, rest_matrix @ moves)
+    for path, data, on in (
         ("location", locs, s.apply_location),
         (rot_path, rots, s.apply_rotation),
         ("scale", scales, s.apply_scale),
     ):
         for i in range(data.shape[1]):
             fc = _write_curve(bag_obj, path, i, f, data[:, i], "Object Transforms")
-            fc.mute = not use
+            fc.mute = not on
     quality = np.where(take.lost, 0.0, take.confidence)
     _write_quality(obj, bag_obj, frames.astype(np.float64), quality)
     obj.animation_data_create()
@@ -206,8 +201,8 @@ def apply_take(scene, obj, blob_mesh, take_name: str) -> dict:
         "blob": blob_mesh.name,
         "take": take_name,
         "action": action.name,
-        "axes": mapping.axes,
-        "mapping": mapping.as_list(),
+        "axes": rig.mapping.axes,
+        "mapping": rig.mapping.as_list(),
         "rest_matrix": rest_matrix.ravel().tolist(),
     }
     return {
@@ -326,7 +321,9 @@ def _refresh_object(obj, s, blob) -> None:
         for m in s.modes
         if m.index < blob.n_modes and (m.enabled or key_name(s.blob, m.name) in present)
     ]
-    offsets = mode_offsets(blob, mapping, rest, [m.index for m in modes])
+    layout = ParamLayout(tuple(str(x) for x in blob.labels))
+    rig = Rig(blob, layout, rest, modes=[m.index for m in modes], mapping=mapping)
+    offsets = rig.offsets
     for mode, offset in zip(modes, offsets, strict=True):
         kb = shape_for_mode(obj, s.blob, mode, offset, rest)
         path = f'key_blocks["{kb.name}"].value'
@@ -356,7 +353,13 @@ def _add_mode_curve(obj, blob_mesh, blob, link, mode, path):
     if action is None:
         return None
     take = load_take(blob_mesh, link["take"])
-    layout = layout_for(blob, take)
+    rig = Rig(
+        blob,
+        layout_for(blob, take),
+        rest_vertices(obj),
+        modes=[mode.index],
+        mapping=mapping_from_list(link["axes"], link["mapping"]),
+    )
     frames = take_frames(blob_mesh, link["take"], take)
     good = ~take.lost
     key = obj.data.shape_keys
@@ -364,7 +367,7 @@ def _add_mode_curve(obj, blob_mesh, blob, link, mode, path):
     if key.animation_data.action is None:
         key.animation_data.action = action
         key.animation_data.action_slot = action.slots.new(id_type="KEY", name=key.name)
-    values = take.params[good, layout.modes.start + mode.index] / unit(blob)
+    values = rig.values(take.params[good])[:, 0]
     return _write_curve(
         active_channelbag(key), path, 0, frames[good].astype(np.float64), values, "Modes"
     )

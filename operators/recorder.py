@@ -12,7 +12,7 @@ import numpy as np
 from ..voodoo_addon.errors import VoodooError
 from ..voodoo_addon.media.images import to_uint8_bgr
 from ..voodoo_addon.media.sources import open_source
-from ..voodoo_addon.takes.rig import fit_mapping, mode_offsets, rigid_transforms, unit
+from ..voodoo_addon.takes.rig import Rig, fit_mapping
 from ..voodoo_addon.takes.take import Take
 from ..voodoo_addon.tracking import Tracker
 from . import overlay
@@ -172,27 +172,23 @@ class Recorder:
             coll.objects.link(copy)
         src.hide_set(True)
         rest = rest_vertices(copy)
-        mapping = fit_mapping(self.blob, rest, s.axes)
         modes = [m for m in s.modes if m.enabled and m.index < self.blob.n_modes]
-        offsets = mode_offsets(self.blob, mapping, rest, [m.index for m in modes])
+        use = (s.apply_location, s.apply_rotation, s.apply_scale)
+        rig = Rig(self.blob, self.tracker.layout, rest, s.axes, [m.index for m in modes], use)
         keys = [
-            shape_for_mode(copy, self.blob_mesh, m, offsets[i], rest) for i, m in enumerate(modes)
+            shape_for_mode(copy, self.blob_mesh, m, rig.offsets[i], rest)
+            for i, m in enumerate(modes)
         ]
-        self._preview = (copy, mapping, modes, keys, np.array(copy.matrix_basis))
+        self._preview = (copy, rig, keys, np.array(copy.matrix_basis))
 
     def _pose(self, params):
         from mathutils import Matrix
 
-        s = self.scene.voodoo
-        copy, mapping, modes, keys, rest_matrix = self._preview
-        layout = self.tracker.layout
-        u = unit(self.blob)
-        for m, kb in zip(modes, keys, strict=True):
-            value = params[layout.modes.start + m.index] / u
+        copy, rig, keys, rest_matrix = self._preview
+        values, transform = rig.pose(params)
+        for kb, value in zip(keys, values, strict=True):
             kb.value = float(np.clip(value, kb.slider_min, kb.slider_max))
-        use = (s.apply_location, s.apply_rotation, s.apply_scale)
-        delta = rigid_transforms(params[None, :], layout, self.blob, mapping, use)[0]
-        copy.matrix_basis = Matrix((rest_matrix @ delta).tolist())
+        copy.matrix_basis = Matrix((rest_matrix @ transform).tolist())
 
     def _drop_preview(self):
         if self._preview is None:

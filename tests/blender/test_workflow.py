@@ -25,17 +25,20 @@ def _prediction(sub, obj, row):
     link = obj[apply.LINK_KEY]
     blob = store.load_blob(s.blob)
     take = store.load_take(s.blob, link["take"])
-    layout = apply.layout_for(blob, take)
-    mapping = rt.mapping_from_list(link["axes"], link["mapping"])
-    rest = apply.rest_vertices(obj)
     modes = [m for m in s.modes if m.enabled]
-    offsets = rt.mode_offsets(blob, mapping, rest, [m.index for m in modes])
-    offsets *= np.array([m.gain for m in modes])[:, None, None]
-    values = take.params[row, [layout.modes.start + m.index for m in modes]] / rt.unit(blob)
-    use = (s.apply_location, s.apply_rotation, s.apply_scale)
-    delta = rt.rigid_transforms(take.params[row : row + 1], layout, blob, mapping, use)[0]
+    rig = rt.Rig(
+        blob,
+        apply.layout_for(blob, take),
+        apply.rest_vertices(obj),
+        modes=[m.index for m in modes],
+        use=(s.apply_location, s.apply_rotation, s.apply_scale),
+        mapping=rt.mapping_from_list(link["axes"], link["mapping"]),
+    )
+    values, delta = rig.pose(take.params[row])
     rest_matrix = np.array(link["rest_matrix"]).reshape(4, 4)
-    return rt.predict_vertices(rest, offsets, values, rest_matrix @ delta), take
+    gains = np.array([m.gain for m in modes])
+    offsets = rig.offsets * gains[:, None, None]
+    return rt.predict_vertices(rig.rest, offsets, values, rest_matrix @ delta), take
 
 
 def _track(ctx, target):

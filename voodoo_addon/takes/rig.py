@@ -204,6 +204,82 @@ def rigid_transforms(
     return out
 
 
+class Rig:
+    """A blob laid on a target mesh: the shape of each mode there, and any frame's pose.
+
+    The one place where doll parameters become what Blender shows: shape-key values (doll
+    units, :func:`unit`), a per-unit shape offset per mode, and the rigid transform of the
+    target. The live stand-in, Apply and the tests all go through it.
+
+    Parameters
+    ----------
+    blob : ActiveBlob
+    layout : ParamLayout
+        How the parameters of the takes to pose are laid out.
+    rest : (n, 3) float64
+        The target's rest-pose local vertices.
+    axes : {"XY", "XZ", "YZ"}
+        The target's plane the doll is laid onto (ignored when ``mapping`` is given).
+    modes : sequence of int, optional
+        The modes the rig poses (default: all).
+    use : (bool, bool, bool)
+        Whether translation, rotation and scale reach the target.
+    mapping : DollMapping, optional
+        An existing mapping (a re-mix of an applied take must keep the one it was applied
+        with); fitted to ``rest`` by default.
+
+    Raises
+    ------
+    VoodooError
+        If the target is flat or degenerate in the chosen plane.
+    """
+
+    def __init__(
+        self,
+        blob: ActiveBlob,
+        layout: ParamLayout,
+        rest: np.ndarray,
+        axes: str = "XZ",
+        modes=None,
+        use=(True, True, True),
+        mapping: DollMapping | None = None,
+    ):
+        self.blob = blob
+        self.layout = layout
+        self.rest = np.asarray(rest, dtype=np.float64)
+        self.mapping = mapping or fit_mapping(blob, self.rest, axes)
+        self.modes = list(range(blob.n_modes) if modes is None else modes)
+        self.use = tuple(bool(u) for u in use)
+        self.unit = unit(blob)
+        #: (k, n, 3): local displacement of every vertex per unit shape-key value.
+        self.offsets = mode_offsets(blob, self.mapping, self.rest, self.modes)
+
+    def values(self, params: np.ndarray) -> np.ndarray:
+        """Shape-key values (T, k) -- or (k,) for one frame -- of the rig's modes."""
+        p = np.asarray(params, dtype=np.float64)
+        cols = [self.layout.modes.start + j for j in self.modes]
+        return p[..., cols] / self.unit
+
+    def transforms(self, params: np.ndarray, use=None) -> np.ndarray:
+        """Target-local 4x4 transforms (T, 4, 4) of the doll's similarity, per frame.
+
+        ``use`` overrides which of translation, rotation and scale take part.
+        """
+        p = np.atleast_2d(np.asarray(params, dtype=np.float64))
+        on = self.use if use is None else use
+        return rigid_transforms(p, self.layout, self.blob, self.mapping, on)
+
+    def pose(self, params: np.ndarray):
+        """One frame: shape-key values (k,) and the target's transform (4, 4)."""
+        return self.values(params), self.transforms(params)[0]
+
+    def vertices(self, params: np.ndarray, gains=None) -> np.ndarray:
+        """Where the target's vertices (n, 3) are in one frame (what Blender should show)."""
+        values, transform = self.pose(params)
+        offsets = self.offsets if gains is None else self.offsets * np.asarray(gains)[:, None, None]
+        return predict_vertices(self.rest, offsets, values, transform)
+
+
 def predict_vertices(
     vertices: np.ndarray,
     offsets: np.ndarray,

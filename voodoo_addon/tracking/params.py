@@ -79,6 +79,23 @@ class ParamLayout:
         n = len(PHOTOMETRIC[self.photometric]) // 2
         return slice(4 + self.n_modes + n, 4 + self.n_modes + 2 * n)
 
+    @classmethod
+    def from_names(cls, mode_labels, names) -> ParamLayout:
+        """The layout whose parameter names are ``names`` (those of a take).
+
+        Raises
+        ------
+        ValueError
+            If no layout of these mode labels has exactly these names.
+        """
+        labels = tuple(str(x) for x in mode_labels)
+        names = tuple(str(x) for x in names)
+        for photometric in PHOTOMETRIC:
+            layout = cls(labels, photometric)
+            if layout.names == names:
+                return layout
+        raise ValueError("the parameter names do not belong to these modes")
+
     def identity(self) -> np.ndarray:
         """The parameters of the capture frame: no motion, no lighting change."""
         return np.zeros(self.size)
