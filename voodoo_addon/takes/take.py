@@ -100,6 +100,26 @@ class Take:
             ),
         )
 
+    def extended(self, more: Take) -> Take:
+        """The take followed by ``more`` (a resumed recording of the same blob)."""
+        if not np.array_equal(self.triangles, more.triangles) or list(self.param_names) != list(
+            more.param_names
+        ):
+            raise VoodooError("The takes belong to different blobs; they cannot be joined.")
+        return Take(
+            vertices=np.concatenate([self.vertices, more.vertices]),
+            triangles=self.triangles,
+            params=np.concatenate([self.params, more.params]),
+            confidence=np.concatenate([self.confidence, more.confidence]),
+            lost=np.concatenate([self.lost, more.lost]),
+            param_names=self.param_names,
+            frame_indices=np.concatenate([self.frame_indices, more.frame_indices]),
+            times=np.concatenate([self.times, more.times]),
+            fps=self.fps,
+            iterations=np.concatenate([self.iterations, more.iterations]),
+            visible=np.concatenate([self.visible, more.visible]),
+        )
+
 
 def take_to_bytes(take: Take) -> bytes:
     """Serialise a take as ``.npz`` bytes (no pickles).
