@@ -70,8 +70,8 @@ class JournalWriter:
         }
         self.sync_every = float(sync_every)
         self.rows = 0
-        self.path.parent.mkdir(parents=True, exist_ok=True)
         try:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
             self._file = open(self.path, "wb")  # noqa: SIM115 - open for the recording's life
         except OSError as exc:
             raise VoodooError(f"Cannot write the recording journal {self.path}: {exc}") from None
@@ -173,10 +173,9 @@ def read_journal(path) -> Journal:
     if rows == 0:
         raise VoodooError(f"The journal {path} holds no tracked frame.")
     rec = np.frombuffer(body[: rows * 8 * size], dtype=np.float64).reshape(rows, size)
-    if not np.isfinite(rec).all():
-        rec = rec[: int(np.argmin(np.isfinite(rec).all(axis=1)))]
-        if not len(rec):
-            raise VoodooError(f"The journal {path} holds no readable frame.")
+    rec = rec[np.isfinite(rec).all(axis=1)]  # a damaged record is skipped, not the rest
+    if not len(rec):
+        raise VoodooError(f"The journal {path} holds no readable frame.")
     frames = rec[:, 2]
     rec = rec[np.append(frames[1:] != frames[:-1], True)]  # a later row of a frame replaces it
     m, p = header["n_nodes"], len(header["param_names"])
