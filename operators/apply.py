@@ -1,31 +1,44 @@
 """Writing a take onto a mesh: one shape key per mode, rigid motion on the transform.
 
-Everything lands in a new layered action named after the take: one slot for the object
-(location, rotation, scale) and one for its shape-key datablock (``key_blocks[...].value``,
-since shape-key values belong to the Key). Animation already on the object or its Key is
-pushed to the NLA first, never overwritten. Mode toggles and gains act afterwards by muting
-curves and rescaling shapes -- no re-tracking.
+A take has one action, named after it: a slot for each target object (location, rotation,
+scale, tracking quality) and one for its shape-key datablock (``key_blocks[...].value``, since
+shape-key values belong to the Key). The first apply on a target pushes the animation already
+there to the NLA (never overwritten); applying the same take again rewrites its curves in
+place (one action, one undo step) unless a new layer is asked for. Mode toggles, gains and the
+rigid switches act afterwards on the curves and shapes -- no re-tracking.
 """
 
 import bpy
 import numpy as np
-from bpy_extras import anim_utils
-from mathutils import Matrix
 
 from ..voodoo_addon.errors import VoodooError
 from ..voodoo_addon.takes.rig import Rig, mapping_from_list
 from ..voodoo_addon.tracking.params import ParamLayout
-from .store import load_blob, load_take
+from .animation import (
+    active_channelbag,
+    assign,
+    find_action,
+    in_nla,
+    mark_attention,
+    push_to_nla,
+    transform_values,
+    write_curve,
+    write_quality,
+)
+from .storage import (
+    TargetLink,
+    is_take_action,
+    linked_to,
+    read_link,
+    stored_blob,
+    stored_take,
+    tag_action,
+)
 
-#: Custom property on a target: which blob/take drive it and how the doll was laid on it.
-LINK_KEY = "voodoo"
-#: Shape-key values allowed by the sliders (doll units, see ``retarget.UNIT_FRACTION``).
+#: Shape-key values allowed by the sliders (doll units, see ``rig.UNIT_FRACTION``).
 SLIDER_RANGE = 10.0
-#: Custom property of a target whose F-curve is the take's per-frame tracking quality.
-QUALITY_PROP = "voodoo_quality"
-#: Stretches of frames whose quality falls below this (or that were lost) get a timeline
-#: marker: the places an animator should look at before trusting the take.
-ATTENTION_BELOW = 0.5
+MODES_GROUP = "Modes"
+TRANSFORM_GROUP = "Object Transforms"
 
 
 def check_target(obj) -> None:
@@ -54,6 +67,18 @@ def rest_vertices(obj) -> np.ndarray:
     return co.reshape(n, 3)
 
 
+def matrix_at(scene, obj, frame) -> np.ndarray:
+    """The object's local transform at a scene frame (its own animation evaluated there)."""
+    ad = obj.animation_data
+    if frame is None or ad is None or (ad.action is None and not len(ad.nla_tracks)):
+        return np.array(obj.matrix_basis)
+    current, sub = scene.frame_current, scene.frame_subframe
+    scene.frame_set(int(frame))
+    matrix = np.array(obj.matrix_basis)
+    scene.frame_set(current, subframe=sub)
+    return matrix
+
+
 def key_name(blob_mesh, label: str) -> str:
     return f"{blob_mesh.name}:{label}"
 
@@ -68,37 +93,16 @@ def layout_for(blob, take) -> ParamLayout:
         ) from None
 
 
-def push_to_nla(id_data) -> None:
-    """Move the active action of an ID onto a new NLA track (nothing is lost)."""
-    ad = id_data.animation_data
-    if ad is None or ad.action is None:
-        return
-    action, slot = ad.action, ad.action_slot
-    track = ad.nla_tracks.new()
-    track.name = f"Before {action.name}"
-    start = int(action.frame_range[0])
-    strip = track.strips.new(action.name, start, action)
-    if slot is not None and hasattr(strip, "action_slot"):
-        strip.action_slot = slot
-    ad.action = None
-
-
-def _channelbag(action, id_data, name):
-    slot = action.slots.new(id_type=id_data.id_type, name=name)
-    return slot, anim_utils.action_ensure_channelbag_for_slot(action, slot)
-
-
-def _write_curve(bag, path: str, index: int, frames, values, group: str):
-    fc = bag.fcurves.new(path, index=index)
-    fc.group = bag.groups.get(group) or bag.groups.new(group)
-    fc.keyframe_points.add(len(frames))
-    fc.keyframe_points.foreach_set("co", np.column_stack([frames, values]).ravel())
-    fc.update()
-    return fc
+def _gain(mode) -> float:
+    gain = float(mode.gain)
+    if not np.isfinite(gain):
+        raise VoodooError(f"Mode {mode.name!r} has gain {gain}; give it a finite number.")
+    return gain
 
 
 def shape_for_mode(obj, blob_mesh, mode, offsets_row, rest):
     """Create or refresh the shape key of one mode (its shape carries the gain)."""
+    gain = _gain(mode)
     key = obj.data.shape_keys
     name = key_name(blob_mesh, mode.name)
     kb = key.key_blocks.get(name) if key is not None else None
@@ -107,212 +111,158 @@ def shape_for_mode(obj, blob_mesh, mode, offsets_row, rest):
             obj.shape_key_add(name="Basis", from_mix=False)
         kb = obj.shape_key_add(name=name, from_mix=False)
         kb.slider_min, kb.slider_max = -SLIDER_RANGE, SLIDER_RANGE
-    kb.data.foreach_set("co", (rest + mode.gain * offsets_row).ravel())
+    kb.data.foreach_set("co", (rest + gain * offsets_row).ravel())
     kb.mute = not mode.enabled
     return kb
 
 
-def _transform_curves(obj, matrices):
-    """Location, rotation (in the object's rotation mode) and scale per frame."""
-    locs, rots, scales = [], [], []
-    prev = None
-    quat_mode = obj.rotation_mode in {"QUATERNION", "AXIS_ANGLE"}
-    for m in matrices:
-        loc, quat, scale = Matrix(m.tolist()).decompose()
-        if quat_mode:
-            if prev is not None and quat.dot(prev) < 0:
-                quat.negate()
-            prev = quat.copy()
-            rots.append(tuple(quat))
-        else:
-            eul = (
-                quat.to_euler(obj.rotation_mode, prev)
-                if prev is not None
-                else quat.to_euler(obj.rotation_mode)
-            )
-            prev = eul.copy()
-            rots.append(tuple(eul))
-        locs.append(tuple(loc))
-        scales.append(tuple(scale))
-    path = "rotation_quaternion" if quat_mode else "rotation_euler"
-    return np.array(locs), path, np.array(rots), np.array(scales)
+def _chosen_modes(s, blob) -> list:
+    return [m for m in s.modes if m.enabled and m.index < blob.n_modes]
 
 
-def apply_take(scene, obj, blob_mesh, take_name: str) -> dict:
+def _mute_other_keys(obj, blob_mesh, s, chosen) -> None:
+    key = obj.data.shape_keys
+    if key is None:
+        return
+    names = {key_name(blob_mesh, m.name) for m in chosen}
+    for m in s.modes:
+        kb = key.key_blocks.get(key_name(blob_mesh, m.name))
+        if kb is not None and kb.name not in names:
+            kb.mute = True
+
+
+def _take_action(obj, blob_mesh, take_name, new_layer):
+    """The action to write the take into, and whether it is rewritten in place."""
+    ad = obj.animation_data
+    active = ad.action if ad is not None else None
+    if not new_layer and is_take_action(active, blob_mesh, take_name):
+        return active, True
+    existing = find_action(take_name)
+    push_to_nla(obj)
+    push_to_nla(obj.data.shape_keys)
+    if not new_layer and is_take_action(existing, blob_mesh, take_name):
+        if not in_nla(obj, existing) and not in_nla(obj.data.shape_keys, existing):
+            return existing, False  # the take's action gets a slot for this target too
+    action = bpy.data.actions.new(take_name)
+    tag_action(action, blob_mesh, take_name)
+    return action, False
+
+
+def write_transforms(obj, bag, rig, take, frames, rest_matrix, use) -> None:
+    """Location, rotation and scale curves: the take's where ``use`` is on, else one key at
+    the rest value (so nothing freezes and no earlier layer shows through).
+    """
+    good = ~take.lost
+    f = frames[good].astype(np.float64)
+    moves = rig.transforms(take.params[good], use=(True, True, True))
+    locs, rot_path, rots, scales = transform_values(obj, rest_matrix @ moves)
+    rest_loc, _, rest_rot, rest_scale = transform_values(obj, rest_matrix[None])
+    for path, data, rest, on in (
+        ("location", locs, rest_loc, use[0]),
+        (rot_path, rots, rest_rot, use[1]),
+        ("scale", scales, rest_scale, use[2]),
+    ):
+        for i in range(data.shape[1]):
+            if on:
+                write_curve(bag, path, i, f, data[:, i], TRANSFORM_GROUP)
+            else:
+                write_curve(bag, path, i, f[:1], rest[:, i], TRANSFORM_GROUP)
+
+
+def apply_take(scene, obj, blob_mesh, take_name: str, new_layer: bool = False) -> dict:
     """Write a stored take onto ``obj`` (one undo step when called from an operator).
 
     Returns
     -------
     dict
-        ``action`` (the new Action), ``keyed`` (frames keyed), ``lost`` (scene frames not
-        keyed because the track was lost there).
+        ``action`` (the take's Action), ``in_place`` (an earlier apply was rewritten),
+        ``keyed`` (frames keyed), ``lost`` (scene frames not keyed because the track was lost
+        there), ``attention`` (marked stretches).
     """
     check_target(obj)
     s = scene.voodoo
-    blob = load_blob(blob_mesh)
-    take = load_take(blob_mesh, take_name)
-    frames = take_frames(blob_mesh, take_name, take)
-    rest = rest_vertices(obj)
-    modes = [m for m in s.modes if m.enabled and m.index < blob.n_modes]
-    use = (s.apply_location, s.apply_rotation, s.apply_scale)
-    rig = Rig(blob, layout_for(blob, take), rest, s.axes, [m.index for m in modes], use)
+    blob = stored_blob(blob_mesh)
+    stored = stored_take(blob_mesh, take_name)
+    take, frames = stored.take, stored.frames
     good = ~take.lost
     if not good.any():
         raise VoodooError(f"Take {take_name!r} lost the blob in every frame; nothing to apply.")
+    modes = _chosen_modes(s, blob)
+    for m in modes:
+        _gain(m)  # fail before anything changes
+    rest = rest_vertices(obj)
+    use = (s.apply_location, s.apply_rotation, s.apply_scale)
+    rig = Rig(blob, layout_for(blob, take), rest, s.axes, [m.index for m in modes], use)
+    link = read_link(obj)
+    if link is not None:  # driven by a take already: its rest pose stays the rest pose
+        rest_matrix = np.array(link.rest_matrix).reshape(4, 4)
+    else:
+        rest_matrix = matrix_at(scene, obj, stored.rest_frame)
+    action, in_place = _take_action(obj, blob_mesh, take_name, new_layer)
 
-    push_to_nla(obj)
-    if obj.data.shape_keys is not None:
-        push_to_nla(obj.data.shape_keys)
-
-    rest_matrix = np.array(obj.matrix_basis)
     shapes = [shape_for_mode(obj, blob_mesh, m, rig.offsets[i], rest) for i, m in enumerate(modes)]
-    action = bpy.data.actions.new(take_name)
-    slot_obj, bag_obj = _channelbag(action, obj, obj.name)
+    _mute_other_keys(obj, blob_mesh, s, modes)
     f = frames[good].astype(np.float64)
-    if shapes:
-        key = obj.data.shape_keys
-        slot_key, bag_key = _channelbag(action, key, key.name)
+    key = obj.data.shape_keys
+    if key is not None and (shapes or in_place):
+        bag_key = assign(key, action)
+        bag_key.fcurves.clear()
         values = rig.values(take.params[good])
-        for i, (m, kb) in enumerate(zip(modes, shapes, strict=True)):
-            path = f'key_blocks["{kb.name}"].value'
-            fc = _write_curve(bag_key, path, 0, f, values[:, i], "Modes")
-            fc.mute = not m.enabled
-        key.animation_data_create()
-        key.animation_data.action = action
-        key.animation_data.action_slot = slot_key
-    # All of the similarity is keyed; the switches mute curves (see refresh_modes).
-    moves = rig.transforms(take.params[good], use=(True, True, True))
-    locs, rot_path, rots, scales = _transform_curves(obj, rest_matrix @ moves)
-    for path, data, on in (
-        ("location", locs, s.apply_location),
-        (rot_path, rots, s.apply_rotation),
-        ("scale", scales, s.apply_scale),
-    ):
-        for i in range(data.shape[1]):
-            fc = _write_curve(bag_obj, path, i, f, data[:, i], "Object Transforms")
-            fc.mute = not on
+        for i, kb in enumerate(shapes):
+            write_curve(bag_key, f'key_blocks["{kb.name}"].value', 0, f, values[:, i], MODES_GROUP)
+    bag_obj = assign(obj, action)
+    bag_obj.fcurves.clear()
+    write_transforms(obj, bag_obj, rig, take, frames, rest_matrix, use)
     quality = np.where(take.lost, 0.0, take.confidence)
-    _write_quality(obj, bag_obj, frames.astype(np.float64), quality)
-    obj.animation_data_create()
-    obj.animation_data.action = action
-    obj.animation_data.action_slot = slot_obj
+    write_quality(obj, bag_obj, frames.astype(np.float64), quality)
     marked = mark_attention(scene, take_name, frames, quality)
-    obj[LINK_KEY] = {
-        "blob": blob_mesh.name,
-        "take": take_name,
-        "action": action.name,
-        "axes": rig.mapping.axes,
-        "mapping": rig.mapping.as_list(),
-        "rest_matrix": rest_matrix.ravel().tolist(),
-    }
+    TargetLink(
+        blob=blob_mesh.name,
+        take=take_name,
+        action=action.name,
+        axes=rig.mapping.axes,
+        mapping=rig.mapping.as_list(),
+        rest_matrix=rest_matrix.ravel().tolist(),
+        use=list(use),
+    ).write(obj)
     return {
         "action": action,
+        "in_place": in_place,
         "keyed": int(good.sum()),
         "lost": frames[~good].tolist(),
         "attention": marked,
     }
 
 
-def attention_message(stretches) -> str | None:
-    """One line for the report about the marked stretches (None when there are none)."""
-    if not stretches:
-        return None
-    first, last = stretches[0]
-    where = f"frame {first}" if first == last else f"frames {first}-{last}"
-    more = f" and {len(stretches) - 1} more" if len(stretches) > 1 else ""
-    return (
-        f"Tracking quality is low at {where}{more}: see the timeline markers and the "
-        f"'{QUALITY_PROP}' curve of the target."
-    )
-
-
-def _write_quality(obj, bag, frames, quality) -> None:
-    """The take's quality as an F-curve of the target's ``voodoo_quality`` property."""
-    obj[QUALITY_PROP] = float(quality[0])
-    obj.id_properties_ui(QUALITY_PROP).update(
-        min=0.0,
-        max=1.0,
-        description="How well the doll was tracked in this frame (0: lost, 1: perfect)",
-    )
-    fc = _write_curve(bag, f'["{QUALITY_PROP}"]', 0, frames, quality, "Tracking Quality")
-    for kp in fc.keyframe_points:
-        kp.interpolation = "CONSTANT"
-
-
-def mark_attention(scene, take_name: str, frames, quality) -> list:
-    """Timeline markers on the stretches of a take that need an animator's eye.
-
-    Markers of an earlier apply of the same take are replaced. Returns the marked
-    stretches as (first, last) scene frames.
-    """
-    prefix = f"{take_name}: "
-    for marker in list(scene.timeline_markers):
-        if marker.name.startswith(prefix):
-            scene.timeline_markers.remove(marker)
-    bad = np.asarray(quality) < ATTENTION_BELOW
-    stretches = []
-    i = 0
-    while i < len(bad):
-        if not bad[i]:
-            i += 1
-            continue
-        j = i
-        while j + 1 < len(bad) and bad[j + 1]:
-            j += 1
-        first, last = int(frames[i]), int(frames[j])
-        label = f"check frame {first}" if first == last else f"check {first}-{last}"
-        scene.timeline_markers.new(prefix + label, frame=first)
-        stretches.append((first, last))
-        i = j + 1
-    return stretches
-
-
-def take_frames(blob_mesh, take_name, take) -> np.ndarray:
-    """Scene frame of every row of a take (stored when it was recorded)."""
-    stored = blob_mesh.get("voodoo_take_frames", {}).get(take_name)
-    if stored is None or len(stored) != len(take):
-        raise VoodooError(f"Take {take_name!r} has no frame numbers; record it again.")
-    return np.asarray(stored, dtype=np.int64)
-
-
 def linked_objects(scene, blob_mesh):
     """Objects of the scene driven by takes of ``blob_mesh``."""
-    out = []
-    for obj in scene.objects:
-        link = obj.get(LINK_KEY)
-        if obj.type == "MESH" and link is not None and link.get("blob") == blob_mesh.name:
-            out.append(obj)
-    return out
-
-
-def active_channelbag(id_data):
-    """The channelbag of an ID's assigned action slot, or None."""
-    ad = id_data.animation_data if id_data is not None else None
-    if ad is None or ad.action is None or ad.action_slot is None:
-        return None
-    return anim_utils.action_get_channelbag_for_slot(ad.action, ad.action_slot)
+    return [obj for obj in scene.objects if linked_to(obj, blob_mesh)]
 
 
 def refresh_modes(scene) -> None:
-    """Make mode toggles, gains and rigid toggles take effect on every linked object.
+    """Make mode toggles, gains and rigid switches take effect on every linked object.
 
-    A mode switched on that was not applied yet gets its shape key and curve from the
-    stored take; switched off, its key and curve are muted; a gain rescales its shape.
+    A mode switched on that was not applied yet gets its shape key and curve from the stored
+    take; switched off, its key and curve are muted; a gain rescales its shape; a rigid switch
+    rewrites that part of the transform curves.
     """
     s = scene.voodoo
     if s.blob is None:
         return
     try:
-        blob = load_blob(s.blob)
+        blob = stored_blob(s.blob)
     except VoodooError:
         return
     for obj in linked_objects(scene, s.blob):
-        _refresh_object(obj, s, blob)
+        _refresh_object(scene, obj, s, blob)
 
 
-def _refresh_object(obj, s, blob) -> None:
-    link = obj[LINK_KEY]
-    mapping = mapping_from_list(link["axes"], link["mapping"])
+def _refresh_object(scene, obj, s, blob) -> None:
+    link = read_link(obj)
+    action = find_action(link.action)
+    if action is None:
+        return  # the take's action was deleted: nothing of ours to refresh
+    mapping = mapping_from_list(link.axes, link.mapping)
     rest = rest_vertices(obj)
     key = obj.data.shape_keys
     present = {kb.name for kb in key.key_blocks} if key is not None else set()
@@ -321,53 +271,35 @@ def _refresh_object(obj, s, blob) -> None:
         for m in s.modes
         if m.index < blob.n_modes and (m.enabled or key_name(s.blob, m.name) in present)
     ]
+    for m in modes:
+        _gain(m)
     layout = ParamLayout(tuple(str(x) for x in blob.labels))
-    rig = Rig(blob, layout, rest, modes=[m.index for m in modes], mapping=mapping)
-    offsets = rig.offsets
-    for mode, offset in zip(modes, offsets, strict=True):
+    shapes = Rig(blob, layout, rest, modes=[m.index for m in modes], mapping=mapping)
+    missing = []
+    for mode, offset in zip(modes, shapes.offsets, strict=True):
         kb = shape_for_mode(obj, s.blob, mode, offset, rest)
         path = f'key_blocks["{kb.name}"].value'
         bag = active_channelbag(obj.data.shape_keys)
         fc = bag.fcurves.find(path) if bag is not None else None
         if fc is None and mode.enabled:
-            fc = _add_mode_curve(obj, s.blob, blob, link, mode, path)
-        if fc is not None:
+            missing.append((mode.index, path))
+        elif fc is not None:
             fc.mute = not mode.enabled
+    use = [bool(s.apply_location), bool(s.apply_rotation), bool(s.apply_scale)]
     bag = active_channelbag(obj)
-    if bag is not None:
-        for fc in bag.fcurves:
-            if fc.data_path == "location":
-                fc.mute = not s.apply_location
-            elif fc.data_path.startswith("rotation"):
-                fc.mute = not s.apply_rotation
-            elif fc.data_path == "scale":
-                fc.mute = not s.apply_scale
-
-
-def _add_mode_curve(obj, blob_mesh, blob, link, mode, path):
-    """Key a newly enabled mode from the stored take into the object's take action.
-
-    Returns the new F-curve, or None when the take's action is gone.
-    """
-    action = bpy.data.actions.get(link["action"])
-    if action is None:
-        return None
-    take = load_take(blob_mesh, link["take"])
-    rig = Rig(
-        blob,
-        layout_for(blob, take),
-        rest_vertices(obj),
-        modes=[mode.index],
-        mapping=mapping_from_list(link["axes"], link["mapping"]),
-    )
-    frames = take_frames(blob_mesh, link["take"], take)
-    good = ~take.lost
-    key = obj.data.shape_keys
-    key.animation_data_create()
-    if key.animation_data.action is None:
-        key.animation_data.action = action
-        key.animation_data.action_slot = action.slots.new(id_type="KEY", name=key.name)
-    values = rig.values(take.params[good])[:, 0]
-    return _write_curve(
-        active_channelbag(key), path, 0, frames[good].astype(np.float64), values, "Modes"
-    )
+    rigid_changed = use != list(link.use) and bag is not None
+    if not missing and not rigid_changed:
+        return
+    stored = stored_take(s.blob, link.take)
+    take, good = stored.take, ~stored.take.lost
+    frames = stored.frames[good].astype(np.float64)
+    rig = Rig(blob, layout_for(blob, take), rest, modes=[i for i, _ in missing], mapping=mapping)
+    if missing:  # modes switched on that were not applied yet: key them from the take
+        key_bag = assign(obj.data.shape_keys, action)
+        values = rig.values(take.params[good])
+        for column, (_, path) in enumerate(missing):
+            write_curve(key_bag, path, 0, frames, values[:, column], MODES_GROUP)
+    if rigid_changed:
+        rest_matrix = np.array(link.rest_matrix).reshape(4, 4)
+        write_transforms(obj, bag, rig, take, stored.frames, rest_matrix, use)
+        TargetLink(**{**link.__dict__, "use": use}).write(obj)

@@ -1,9 +1,6 @@
-"""Frames and outlines crossing the Blender boundary.
+"""Movie clips and masks: which clip is meant, its file, its frames, an outline from a Mask.
 
-Conventions are converted here and nowhere else: the engine's pixels have their origin at the
-centre of the top-left pixel with y down; Blender images are bottom-up rows; mask coordinates
-are normalised to the clip with the shorter axis scaled about 0.5 (one unit is the longer
-side), y up.
+Pixel conventions are in :mod:`.pixels`.
 """
 
 from pathlib import Path
@@ -11,8 +8,10 @@ from pathlib import Path
 import bpy
 import numpy as np
 
+from ..voodoo_addon.blob.outline import signed_area
 from ..voodoo_addon.errors import VoodooError
 from ..voodoo_addon.media.sources import open_source
+from .pixels import mask_to_pixels
 
 #: Points sampled on each Bezier segment of a mask spline.
 BEZIER_SAMPLES = 16
@@ -51,49 +50,6 @@ def scene_frame(clip, index: int) -> int:
     return int(index) + clip.frame_start - clip.frame_offset
 
 
-def image_from_rgb(name: str, rgb: np.ndarray, pack: bool = True):
-    """A new 8-bit Blender image holding a float RGB frame (H, W, 3), packed into the file."""
-    h, w = rgb.shape[:2]
-    img = bpy.data.images.new(name, w, h, alpha=False, float_buffer=False)
-    rgba = np.ones((h, w, 4), dtype=np.float32)
-    rgba[:, :, :3] = rgb[::-1]
-    img.pixels.foreach_set(rgba.ravel())
-    img.update()
-    if pack:
-        img.pack()
-    return img
-
-
-def rgb_from_image(img) -> np.ndarray:
-    """Float RGB (H, W, 3) of a Blender image, top row first."""
-    w, h = img.size
-    if w == 0 or h == 0:
-        raise VoodooError(f"Image {img.name!r} has no pixels (is its file missing?).")
-    buf = np.empty(w * h * img.channels, dtype=np.float32)
-    img.pixels.foreach_get(buf)
-    rgba = buf.reshape(h, w, img.channels)[::-1]
-    rgb = rgba[:, :, :3] if img.channels >= 3 else np.repeat(rgba[:, :, :1], 3, axis=2)
-    return np.ascontiguousarray(rgb, dtype=np.float32)
-
-
-def mask_to_pixels(co: np.ndarray, size) -> np.ndarray:
-    """Mask coordinates (n, 2) -> engine pixels (n, 2) for a clip of ``size`` (w, h)."""
-    w, h = float(size[0]), float(size[1])
-    side = max(w, h)
-    x_edge = w / 2 + (co[:, 0] - 0.5) * side
-    y_up = h / 2 + (co[:, 1] - 0.5) * side
-    return np.column_stack([x_edge - 0.5, h - y_up - 0.5])
-
-
-def pixels_to_mask(px: np.ndarray, size) -> np.ndarray:
-    """Inverse of :func:`mask_to_pixels`."""
-    w, h = float(size[0]), float(size[1])
-    side = max(w, h)
-    x = (px[:, 0] + 0.5 - w / 2) / side + 0.5
-    y = (h - px[:, 1] - 0.5 - h / 2) / side + 0.5
-    return np.column_stack([x, y])
-
-
 def _sample_spline(spline) -> np.ndarray:
     """Closed polyline (n, 2) through a cyclic mask spline's Bezier segments."""
     pts = spline.points
@@ -108,7 +64,7 @@ def _sample_spline(spline) -> np.ndarray:
     return np.vstack(out)
 
 
-def mask_contour(mask, size) -> np.ndarray:
+def outline_from_mask(mask, size) -> np.ndarray:
     """Outline (k, 2) in engine pixels from a mask's largest closed spline.
 
     Parameters
@@ -126,8 +82,7 @@ def mask_contour(mask, size) -> np.ndarray:
             if len(spline.points) < 3 or not spline.use_cyclic:
                 continue
             poly = _sample_spline(spline)
-            x, y = poly[:, 0], poly[:, 1]
-            area = 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+            area = abs(signed_area(poly))
             if area > best_area:
                 best, best_area = poly, area
     if best is None:

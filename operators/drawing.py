@@ -1,14 +1,16 @@
 """Drawing over the Movie Clip Editor: the outline, the blob mesh and the tracked mesh.
 
-A ``POST_PIXEL`` draw handler converts engine pixels (y down, pixel centres) to the clip
-editor's view (frame pixels, y up, pixel edges) and then to region pixels with the region's
-View2D, so the overlay follows pan and zoom.
+A ``POST_PIXEL`` draw handler maps engine pixels to the region with the region's View2D
+(:func:`.pixels.pixels_to_region`), so the overlay follows pan and zoom.
 """
 
 import bpy
 import gpu
 import numpy as np
 from gpu_extras.batch import batch_for_shader
+
+from .pixels import pixels_to_region
+from .storage import is_blob, stored_blob
 
 OUTLINE_COLOUR = (1.0, 0.45, 0.1, 1.0)
 MESH_COLOUR = (1.0, 0.85, 0.2, 0.8)
@@ -18,17 +20,6 @@ LOST_COLOUR = (1.0, 0.2, 0.2, 0.9)
 #: What the recorder shows live: {"nodes": (m, 2), "triangles": (t, 3), "lost": bool}.
 live_state: dict = {}
 _handle = None
-
-
-def frame_to_region(points: np.ndarray, frame_height: int, view_to_region) -> np.ndarray:
-    """Engine pixels (n, 2) -> region pixels (n, 2).
-
-    ``view_to_region(x, y)`` is the region's View2D mapping (frame pixel edges, y up).
-    """
-    view = np.column_stack([points[:, 0] + 0.5, frame_height - (points[:, 1] + 0.5)])
-    o = np.array(view_to_region(0.0, 0.0, clip=False), dtype=np.float64)
-    e = np.array(view_to_region(1000.0, 1000.0, clip=False), dtype=np.float64)
-    return o + view * (e - o) / 1000.0
 
 
 def _edges(triangles: np.ndarray) -> np.ndarray:
@@ -58,24 +49,22 @@ def draw_overlay():
     gpu.state.line_width_set(1.5)
     if len(settings.contour) >= 2:
         pts = np.array([p.co for p in settings.contour])
-        reg = frame_to_region(pts, height, v2r)
+        reg = pixels_to_region(pts, height, v2r)
         seg = np.stack([reg, np.roll(reg, -1, axis=0)], axis=1).reshape(-1, 2)
         _draw_lines(seg, OUTLINE_COLOUR, shader)
     mesh = None
     if live_state:
         colour = LOST_COLOUR if live_state.get("lost") else TRACK_COLOUR
         mesh = (live_state["nodes"], live_state["triangles"], colour)
-    elif settings.blob is not None and "voodoo_blob" in settings.blob:
-        from .store import load_blob
-
+    elif is_blob(settings.blob):
         try:
-            blob = load_blob(settings.blob)
+            blob = stored_blob(settings.blob)
             mesh = (blob.vertices, blob.triangles, MESH_COLOUR)
         except Exception:  # noqa: BLE001 - drawing must never raise
             mesh = None
     if mesh is not None:
         nodes, tris, colour = mesh
-        reg = frame_to_region(np.asarray(nodes), height, v2r)
+        reg = pixels_to_region(np.asarray(nodes), height, v2r)
         _draw_lines(reg[_edges(np.asarray(tris)).ravel()], colour, shader)
     gpu.state.blend_set("NONE")
     gpu.state.line_width_set(1.0)

@@ -1,10 +1,12 @@
 """A take being recorded.
 
-The modal operator forwards timer ticks to :meth:`Recorder.step`; the batch operator and the
-tests call it in a loop (the bpy module has no event loop).
+The modal operators forward timer ticks to :meth:`Recorder.step`; scripts and the tests call
+it in a loop (the bpy module has no event loop). Every tracked frame also goes to a journal
+file at once (:mod:`voodoo_addon.takes.journal`), so a crash or a killed Blender loses none of
+the take: Recover Takes stores it from there.
 """
 
-from pathlib import Path
+from contextlib import ExitStack
 
 import bpy
 import numpy as np
@@ -12,16 +14,39 @@ import numpy as np
 from ..voodoo_addon.errors import VoodooError
 from ..voodoo_addon.media.images import to_uint8_bgr
 from ..voodoo_addon.media.sources import open_source
+from ..voodoo_addon.takes.journal import SUFFIX, JournalWriter, read_journal
 from ..voodoo_addon.takes.rig import Rig, fit_mapping
 from ..voodoo_addon.takes.take import Take
 from ..voodoo_addon.tracking import Tracker
-from . import overlay
+from . import drawing
 from .apply import apply_take, check_target, layout_for, rest_vertices, shape_for_mode
-from .frames import active_clip, open_clip, scene_frame
+from .clips import active_clip, open_clip, scene_frame
 from .gpu_warp import make_backend
-from .store import load_blob, load_take, store_take, unique_take_name
+from .storage import (
+    blob_id,
+    footage_dir,
+    recoverable_journals,
+    recovery_dir,
+    store_take,
+    stored_blob,
+    stored_take,
+    take_names,
+    unique_take_name,
+)
 
-FOOTAGE_DIR = "voodoo_footage"
+#: Journals of the takes being recorded in this session (not "interrupted").
+_recording: set = set()
+
+
+def _frozen(s) -> list:
+    """Names of the rigid parameters the animator froze."""
+    pairs = (
+        ("translate-x", s.freeze_translation),
+        ("translate-y", s.freeze_translation),
+        ("rotate", s.freeze_rotation),
+        ("scale", s.freeze_scale),
+    )
+    return [name for name, on in pairs if on]
 
 
 class Recorder:
@@ -33,16 +58,16 @@ class Recorder:
     max_frames : int, optional
         Stop after this many frames (a live camera stops after ``camera_seconds``).
     live : bool
-        Move the scene to each tracked frame and pose the target there (off for batch).
+        Move the scene to each tracked frame and pose a stand-in of the target there.
     resume : str, optional
         Name of a stored take of a clip to continue: tracking starts on the frame after its
-        last one, from its last pose (e.g. after reopening the file).
+        last one, from its last pose, and the take grows (e.g. after reopening the file).
 
     Raises
     ------
     VoodooError
         No blob, no clip or camera, an unreadable clip, a frame size that does not match the
-        blob, or a target that is not a mesh.
+        blob, or a target that is not a mesh. Nothing is left open or changed then.
     """
 
     def __init__(
@@ -53,82 +78,97 @@ class Recorder:
         self.scene = scene
         self.live = live
         self.blob_mesh = s.blob
-        self.blob = load_blob(s.blob)
+        self.blob = stored_blob(s.blob)
         self.target = s.target
         if self.target is not None:
             check_target(self.target)
             fit_mapping(self.blob, rest_vertices(self.target), s.axes)  # fail before tracking
-        self.clip = None
-        resume_from = None
-        self.writer = None
-        self.footage = None
+        self.notes: list[str] = []
+        self.rows = []  # (source index, time, scene frame, TrackResult)
+        self.previous = stored_take(self.blob_mesh, resume) if resume else None
+        self._preview = None
+        self.writer = self.footage = self.clip = None
+        with ExitStack() as stack:
+            self._open_source(context, s, max_frames, stack)
+            size = tuple(int(v) for v in self.blob.frame_size)
+            if tuple(self.source.size) != size:
+                raise VoodooError(
+                    f"The source is {self.source.size[0]}x{self.source.size[1]} but the blob "
+                    f"was built on a {size[0]}x{size[1]} frame; capture and build again."
+                )
+            self.backend, self.backend_note = make_backend(s.warp)
+            stack.callback(self.backend.close)
+            self.tracker = Tracker(self.blob, backend=self.backend, frozen=_frozen(s))
+            if self.previous is not None:
+                self.tracker.reset(self.previous.take.params[-1])
+                self.take_name = resume
+            else:
+                self.take_name = unique_take_name(self.blob_mesh, s.take_name or "Take")
+            self.journal = JournalWriter(
+                recovery_dir() / f"{blob_id(self.blob_mesh)}-{bpy.path.clean_name(self.take_name)}"
+                f"{SUFFIX}",
+                self.blob.triangles,
+                self.blob.n_nodes,
+                self.tracker.parameter_names,
+                self.source.fps,
+                meta={
+                    "blob_id": blob_id(self.blob_mesh),
+                    "blob": self.blob_mesh.name,
+                    "take": self.take_name,
+                    "extends": resume,
+                    "rest_frame": self.rest_frame,
+                },
+            )
+            stack.callback(self.journal.close)
+            _recording.add(self.journal.path)
+            stack.callback(_recording.discard, self.journal.path)
+            if s.source == "CAMERA":
+                self._open_writer(stack)
+            if self.target is not None and live:
+                self._prepare_preview()
+                stack.callback(self._drop_preview)
+            stack.callback(drawing.live_state.clear)
+            self._resources = stack.pop_all()
+
+    def _open_source(self, context, s, max_frames, stack) -> None:
+        scene = self.scene
         if s.source == "CAMERA":
-            self.source = open_source(int(s.camera_index))
+            if self.previous is not None:
+                raise VoodooError("Only takes of a movie clip can be resumed.")
+            self.source = stack.enter_context(open_source(int(s.camera_index)))
             fps = scene.render.fps / scene.render.fps_base
             self.max_frames = max_frames or max(1, round(s.camera_seconds * self.source.fps))
-            self.start_frame = scene.frame_current
-            self._frame_of = lambda fr: self.start_frame + int(round(fr.time * fps))
-        else:
-            self.clip = active_clip(context)
-            self.source = open_clip(self.clip)
-            start = max(0, min(s.capture_index, (self.source.count or 1) - 1))
-            if resume:
-                previous = load_take(self.blob_mesh, resume)
-                start = int(previous.frame_indices[-1]) + 1
-                resume_from = previous.params[-1]
-                if self.source.count is not None and start >= self.source.count:
-                    self.source.close()
-                    raise VoodooError(f"Take {resume!r} already reaches the end of the clip.")
-            self.source.seek(start)
-            self.max_frames = max_frames
-            self._frame_of = lambda fr: scene_frame(self.clip, fr.index)
-        size = tuple(int(v) for v in self.blob.frame_size)
-        if tuple(self.source.size) != size:
-            self.source.close()
-            raise VoodooError(
-                f"The source is {self.source.size[0]}x{self.source.size[1]} but the blob was "
-                f"built on a {size[0]}x{size[1]} frame; capture and build again."
-            )
-        self.backend, self.backend_note = make_backend(s.warp)
-        frozen = [
-            name
-            for name, on in (
-                ("translate-x", s.freeze_translation),
-                ("translate-y", s.freeze_translation),
-                ("rotate", s.freeze_rotation),
-                ("scale", s.freeze_scale),
-            )
-            if on
-        ]
-        self.tracker = Tracker(self.blob, backend=self.backend, frozen=frozen)
-        if resume_from is not None:
-            self.tracker.reset(resume_from)
-        self.take_name = unique_take_name(self.blob_mesh, s.take_name or "Take")
-        self.rows = []  # (source index, time, scene frame, TrackResult)
-        self._preview = None
-        if self.target is not None and live:
-            self._prepare_preview()
-        if s.source == "CAMERA":
-            self._open_writer()
+            start_frame = scene.frame_current
+            self.rest_frame = start_frame
+            self._frame_of = lambda fr: start_frame + int(round(fr.time * fps))
+            return
+        self.clip = active_clip(context)
+        self.source = stack.enter_context(open_clip(self.clip))
+        start = max(0, min(s.capture_index, (self.source.count or 1) - 1))
+        self.rest_frame = scene_frame(self.clip, s.capture_index)
+        if self.previous is not None:
+            start = int(self.previous.take.frame_indices[-1]) + 1
+            self.rest_frame = self.previous.rest_frame
+            if self.source.count is not None and start >= self.source.count:
+                raise VoodooError(
+                    f"Take {self.previous.name!r} already reaches the end of the clip."
+                )
+        self.source.seek(start)
+        self.max_frames = max_frames
+        self._frame_of = lambda fr: scene_frame(self.clip, fr.index)
 
     # ------------------------------------------------------------------ per frame
 
     def step(self) -> bool:
         """Track the next frame. Returns False when the take is complete.
 
-        Raises
-        ------
-        VoodooError
-            When the target was deleted during the take.
+        A target deleted during the take ends it (the take is kept); a stand-in deleted
+        during the take only ends the live preview.
         """
-        if self.target is not None:
-            try:
-                self.target.name  # noqa: B018 - raises once the object is gone
-            except ReferenceError:
-                self.target = None
-                raise VoodooError(
-                    "The target was deleted during the take; recording stopped."
-                ) from None
+        if self.target is not None and not _alive(self.target):
+            self.target = None  # the stand-in goes when the recorder closes
+            self.notes.append("The target was deleted during the take; recording stopped.")
+            return False
         if self.max_frames is not None and len(self.rows) >= self.max_frames:
             return False
         frame = self.source.read()
@@ -141,7 +181,8 @@ class Recorder:
         if self.rows and self.rows[-1][2] == f:  # two camera frames in one scene frame
             self.rows.pop()
         self.rows.append((frame.index, frame.time, f, res))
-        overlay.live_state.update(nodes=res.nodes, triangles=self.blob.triangles, lost=res.lost)
+        self.journal.add(res, frame.index, frame.time, f)
+        drawing.live_state.update(nodes=res.nodes, triangles=self.blob.triangles, lost=res.lost)
         if self.live:
             self.scene.frame_set(f)
             if self._preview is not None and not res.lost:
@@ -185,63 +226,60 @@ class Recorder:
         from mathutils import Matrix
 
         copy, rig, keys, rest_matrix = self._preview
+        if not _alive(copy):  # the animator deleted the stand-in: record on without it
+            self._drop_preview()
+            self.notes.append("The live stand-in was deleted; the take was recorded without it.")
+            return
         values, transform = rig.pose(params)
         for kb, value in zip(keys, values, strict=True):
             kb.value = float(np.clip(value, kb.slider_min, kb.slider_max))
         copy.matrix_basis = Matrix((rest_matrix @ transform).tolist())
 
     def _drop_preview(self):
-        if self._preview is None:
-            return
-        copy = self._preview[0]
-        self._preview = None
-        mesh = copy.data
-        bpy.data.objects.remove(copy)
-        if mesh.users == 0:
-            bpy.data.meshes.remove(mesh)
-        try:
+        if self._preview is not None:
+            copy = self._preview[0]
+            self._preview = None
+            if _alive(copy):
+                mesh = copy.data
+                bpy.data.objects.remove(copy)
+                if mesh.users == 0:
+                    bpy.data.meshes.remove(mesh)
+        if self.target is not None and _alive(self.target):
             self.target.hide_set(False)
-        except (ReferenceError, AttributeError, RuntimeError):
-            pass
 
     # ------------------------------------------------------------------ footage
 
-    def _open_writer(self):
+    def _open_writer(self, stack):
         import cv2
 
-        base = Path(bpy.path.abspath("//")) if bpy.data.filepath else Path(bpy.app.tempdir)
-        folder = base / FOOTAGE_DIR
+        folder = footage_dir()
         folder.mkdir(parents=True, exist_ok=True)
         self.footage = folder / f"{bpy.path.clean_name(self.take_name)}.avi"
         w, h = self.source.size
         self.writer = cv2.VideoWriter(
             str(self.footage), cv2.VideoWriter_fourcc(*"MJPG"), self.source.fps, (w, h)
         )
+        stack.callback(self._release_writer)
+
+    def _release_writer(self):
+        if self.writer is not None:
+            self.writer.release()
+            self.writer = None
 
     # ------------------------------------------------------------------ end
 
     def close(self) -> None:
-        """Release the source, the warp and the live stand-in; nothing else changes."""
-        self._drop_preview()
-        self.source.close()
-        self.backend.close()
-        if self.writer is not None:
-            self.writer.release()
-            self.writer = None
-        overlay.live_state.clear()
-
-    def finish(self) -> dict:
-        """Store the take with the blob and apply it to the target (if any).
-
-        Returns
-        -------
-        dict
-            ``take`` (name), ``frames`` (tracked), ``lost`` (scene frames not keyed),
-            ``applied`` (bool), ``clip`` (the footage clip for camera takes).
+        """Release the source, the warp, the footage and the stand-in; the journal stays
+        on disk until the take is stored, so nothing recorded is lost.
         """
+        self._resources.close()
+
+    def keep(self) -> str | None:
+        """Store what was recorded with the blob (no apply); returns the take's name."""
         self.close()
         if not self.rows:
-            raise VoodooError("No frame was tracked; nothing to keep.")
+            self.journal.discard()
+            return None
         take = Take.from_results(
             [r for *_, r in self.rows],
             self.blob.triangles,
@@ -251,21 +289,82 @@ class Recorder:
             self.source.fps,
         )
         layout_for(self.blob, take)  # sanity: the layout must round-trip
-        store_take(self.blob_mesh, self.take_name, take)
-        frames = self.blob_mesh.get("voodoo_take_frames")
-        if frames is None:
-            self.blob_mesh["voodoo_take_frames"] = {}
-            frames = self.blob_mesh["voodoo_take_frames"]
-        frames[self.take_name] = [int(f) for *_, f, _ in self.rows]
+        frames = [f for *_, f, _ in self.rows]
+        if self.previous is not None:
+            take = self.previous.take.extended(take)
+            frames = self.previous.frames.tolist() + frames
+        store_take(self.blob_mesh, self.take_name, take, frames, self.rest_frame)
+        self.journal.discard()
         self.scene.voodoo.last_take = self.take_name
-        info = {"take": self.take_name, "frames": len(self.rows), "lost": [], "applied": False}
+        return self.take_name
+
+    def finish(self) -> dict:
+        """Store the take with the blob and apply it to the target (if any).
+
+        Returns
+        -------
+        dict
+            ``take`` (name), ``frames`` (tracked now), ``lost`` (scene frames not keyed),
+            ``applied`` (bool), ``clip`` (the footage clip for camera takes), ``notes``.
+        """
+        if self.keep() is None:
+            raise VoodooError("No frame was tracked; nothing to keep.")
+        info = {
+            "take": self.take_name,
+            "frames": len(self.rows),
+            "lost": [],
+            "applied": False,
+            "notes": self.notes,
+        }
         if self.footage is not None and self.footage.exists():
             clip = bpy.data.movieclips.load(str(self.footage))
             clip.frame_start = self.rows[0][2]
             info["clip"] = clip
-        if self.target is not None:
+        if self.target is not None and _alive(self.target):
             out = apply_take(self.scene, self.target, self.blob_mesh, self.take_name)
             info.update(
                 lost=out["lost"], applied=True, action=out["action"], attention=out["attention"]
             )
         return info
+
+
+def _alive(obj) -> bool:
+    """False once a Blender object's data was deleted under us."""
+    try:
+        obj.name  # noqa: B018 - raises once the object is gone
+    except ReferenceError:
+        return False
+    return True
+
+
+def interrupted_takes() -> list:
+    """(journal path, blob mesh) of takes an interrupted recording left on disk."""
+    return [(p, m) for p, m in recoverable_journals() if p not in _recording]
+
+
+def recover_take(path, blob_mesh) -> str:
+    """Store the take of a journal with its blob; returns the take's name.
+
+    A journal of a resumed take grows the take it continued; any other gets the name it
+    was recorded under (made unique if that name is taken meanwhile). The journal is
+    deleted once the take is stored.
+    """
+    journal = read_journal(path)
+    meta = journal.header.get("meta", {})
+    take, frames = journal.take, journal.frames
+    extends = meta.get("extends")
+    if extends and extends in take_names(blob_mesh):
+        before = stored_take(blob_mesh, extends)
+        if before.frames[-1] < frames[0]:
+            take = before.take.extended(take)
+            frames = np.concatenate([before.frames, frames])
+            name = extends
+        else:
+            name = unique_take_name(blob_mesh, extends)
+    else:
+        name = meta.get("take") or "Take"
+        if name in take_names(blob_mesh):
+            name = unique_take_name(blob_mesh, name)
+    store_take(blob_mesh, name, take, frames, meta.get("rest_frame"))
+    path.unlink(missing_ok=True)
+    return name

@@ -144,7 +144,7 @@ def file_size(path: Path) -> str:
 def start_blender(scratch: Path):
     """An empty scene with the checkout enabled as an extension; returns ``(addon, sub)``.
 
-    ``addon`` is the add-on's module name, ``sub("operators.store")`` imports its submodules.
+    ``addon`` is the add-on's module name, ``sub("operators.storage")`` imports its submodules.
     """
     bpy.ops.wm.read_factory_settings(use_empty=True)
     bpy.context.preferences.filepaths.save_version = 0  # no demo.blend1 backups
@@ -183,7 +183,7 @@ def build_doll(sub, clip) -> None:
     """Capture the clip's first frame, outline it from the bundled contour, build the blob."""
     run_operator(bpy.ops.voodoo.capture_frame)
     points = json.loads(SAMPLE_OUTLINE.read_text())["points"]
-    add_outline_mask(sub("operators.frames"), points, tuple(clip.size))
+    add_outline_mask(sub("operators.pixels"), points, tuple(clip.size))
     run_operator(bpy.ops.voodoo.contour_from_mask, mask=MASK_NAME)
     run_operator(bpy.ops.voodoo.build_blob, name=DOLL_NAME)
 
@@ -405,10 +405,10 @@ def run(args: argparse.Namespace) -> None:
         setup_render(scene)
         save_blend(out / BLEND_NAME, clip)
 
-    store, apply = sub("operators.store"), sub("operators.apply")
-    blob = store.load_blob(scene.voodoo.blob)
-    take = store.load_take(scene.voodoo.blob, take_name)
-    frames = apply.take_frames(scene.voodoo.blob, take_name, take)
+    store, apply = sub("operators.storage"), sub("operators.apply")
+    blob = store.stored_blob(scene.voodoo.blob)
+    take = store.stored_take(scene.voodoo.blob, take_name).take
+    frames = store.stored_take(scene.voodoo.blob, take_name).frames
     with steps(f"Render {scene.frame_end - scene.frame_start + 1} frames with Workbench"):
         renders = render_frames(
             scene, SCRATCH / "frames", sub("voodoo_addon.takes.take").ProgressBar

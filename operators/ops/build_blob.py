@@ -1,11 +1,10 @@
 import bpy
 
-from ..voodoo_addon.blob.build import BlobOptions, build_blob
-from ..voodoo_addon.errors import VoodooError
-from . import overlay
-from .common import reports_errors, settings
-from .frames import rgb_from_image
-from .store import store_blob
+from ...voodoo_addon.blob.build import BlobOptions, build_blob
+from .. import drawing
+from ..pixels import rgb_from_image
+from ..storage import blob_users, remove_blob, store_blob, take_names
+from .common import needs, reports_errors, settings
 
 
 class VOODOO_OT_build_blob(bpy.types.Operator):
@@ -17,13 +16,13 @@ class VOODOO_OT_build_blob(bpy.types.Operator):
 
     name: bpy.props.StringProperty(name="Name", default="Doll")
 
+    @classmethod
+    def poll(cls, context):
+        return needs(cls, context, "capture", "outline")
+
     @reports_errors
     def execute(self, context):
         s = settings(context)
-        if s.capture_image is None:
-            raise VoodooError("Capture a frame first.")
-        if len(s.contour) < 3:
-            raise VoodooError("Outline the object first (mask, automatic, or sketch).")
         frame = rgb_from_image(s.capture_image)
         options = BlobOptions(
             n_modes=s.n_modes,
@@ -32,8 +31,12 @@ class VOODOO_OT_build_blob(bpy.types.Operator):
             poly_degree=s.poly_degree,
         )
         blob = build_blob(frame, [tuple(p.co) for p in s.contour], options)
+        old = s.blob
         mesh = store_blob(self.name, blob)
         s.blob = mesh
+        if old is not None and not take_names(old) and not blob_users(old):
+            remove_blob(old)  # a blob nothing was recorded with is only dead weight
+            mesh.name = self.name
         s.modes.clear()
         for j, label in enumerate(blob.labels):
             item = s.modes.add()
@@ -48,7 +51,7 @@ class VOODOO_OT_build_blob(bpy.types.Operator):
             f"Blob {mesh.name!r}: {blob.n_nodes} nodes, {len(blob.triangles)} triangles, "
             f"{blob.n_pixels} pixels, {blob.n_modes} modes.",
         )
-        overlay.tag_redraw(context)
+        drawing.tag_redraw(context)
         return {"FINISHED"}
 
 

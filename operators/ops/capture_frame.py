@@ -1,9 +1,10 @@
 import bpy
 
-from ..voodoo_addon.media.sources import open_source
-from .common import reports_errors, settings
-from .frames import active_clip, image_from_rgb, open_clip, source_index
-from .recorder import FOOTAGE_DIR
+from ...voodoo_addon.media.sources import open_source
+from ..clips import active_clip, open_clip, source_index
+from ..pixels import image_from_rgb
+from ..storage import footage_dir
+from .common import needs, reports_errors, settings
 
 
 class VOODOO_OT_capture_frame(bpy.types.Operator):
@@ -12,6 +13,10 @@ class VOODOO_OT_capture_frame(bpy.types.Operator):
     bl_idname = "voodoo.capture_frame"
     bl_label = "Capture Frame"
     bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        return needs(cls, context, "source")
 
     @reports_errors
     def execute(self, context):
@@ -38,10 +43,7 @@ class VOODOO_OT_capture_frame(bpy.types.Operator):
 
     def _show_as_clip(self, context, image):
         """Camera captures become a one-frame clip, so a Mask can be drawn over them."""
-        from pathlib import Path
-
-        base = Path(bpy.path.abspath("//")) if bpy.data.filepath else Path(bpy.app.tempdir)
-        folder = base / FOOTAGE_DIR
+        folder = footage_dir()
         folder.mkdir(parents=True, exist_ok=True)
         path = folder / "capture.png"
         image.save(filepath=str(path))

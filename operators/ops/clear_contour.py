@@ -1,6 +1,6 @@
 import bpy
 
-from . import overlay
+from .. import drawing
 from .common import settings
 
 
@@ -13,7 +13,7 @@ class VOODOO_OT_clear_contour(bpy.types.Operator):
 
     def execute(self, context):
         settings(context).contour.clear()
-        overlay.tag_redraw(context)
+        drawing.tag_redraw(context)
         return {"FINISHED"}
 
 

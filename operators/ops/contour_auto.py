@@ -1,9 +1,8 @@
 import bpy
 
-from ..voodoo_addon.blob.segment import segment_contour
-from ..voodoo_addon.errors import VoodooError
-from .common import reports_errors, settings, store_contour
-from .frames import rgb_from_image
+from ...voodoo_addon.blob.segment import segment_contour
+from ..pixels import region_to_pixel, rgb_from_image
+from .common import needs, reports_errors, settings, store_contour
 
 
 class VOODOO_OT_contour_auto(bpy.types.Operator):
@@ -24,21 +23,21 @@ class VOODOO_OT_contour_auto(bpy.types.Operator):
         name="Box", size=4, description="x0, y0, x1, y1 in pixels", default=(0, 0, 0, 0)
     )
 
+    @classmethod
+    def poll(cls, context):
+        return needs(cls, context, "capture")
+
     def invoke(self, context, event):
         region = context.region
         space = context.space_data
         if space is not None and space.type == "CLIP_EDITOR" and region.type == "WINDOW":
-            x, y = region.view2d.region_to_view(event.mouse_region_x, event.mouse_region_y)
-            h = settings(context).capture_image.size[1] if settings(context).capture_image else 0
-            if h:
-                self.point = (x - 0.5, h - y - 0.5)
+            h = settings(context).capture_image.size[1]
+            self.point = region_to_pixel(region, event.mouse_region_x, event.mouse_region_y, h)
         return self.execute(context)
 
     @reports_errors
     def execute(self, context):
         s = settings(context)
-        if s.capture_image is None:
-            raise VoodooError("Capture a frame first.")
         frame = rgb_from_image(s.capture_image)
         h, w = frame.shape[:2]
         if self.use_box:

@@ -1,9 +1,8 @@
 import bpy
 
-from ..voodoo_addon.blob.outline import simplify_contour, validate_contour
-from ..voodoo_addon.errors import VoodooError
-from .common import reports_errors, settings, store_contour
-from .frames import mask_contour
+from ...voodoo_addon.blob.outline import simplify_contour, validate_contour
+from ..clips import outline_from_mask
+from .common import needs, reports_errors, settings, store_contour
 
 
 class VOODOO_OT_contour_from_mask(bpy.types.Operator):
@@ -15,11 +14,13 @@ class VOODOO_OT_contour_from_mask(bpy.types.Operator):
 
     mask: bpy.props.StringProperty(name="Mask", description="Mask to use (default: the editor's)")
 
+    @classmethod
+    def poll(cls, context):
+        return needs(cls, context, "capture")
+
     @reports_errors
     def execute(self, context):
         s = settings(context)
-        if s.capture_image is None:
-            raise VoodooError("Capture a frame first (the outline is drawn on it).")
         mask = bpy.data.masks.get(self.mask) if self.mask else None
         if mask is None:
             space = getattr(context, "space_data", None)
@@ -27,7 +28,7 @@ class VOODOO_OT_contour_from_mask(bpy.types.Operator):
         if mask is None and len(bpy.data.masks) == 1:
             mask = bpy.data.masks[0]
         size = tuple(s.capture_image.size)
-        points = mask_contour(mask, size)
+        points = outline_from_mask(mask, size)
         points = validate_contour(simplify_contour(points, 0.5), frame_size=size)
         store_contour(s, points)
         self.report({"INFO"}, f"Outline of {len(points)} points from mask {mask.name!r}.")

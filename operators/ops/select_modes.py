@@ -1,12 +1,12 @@
 import bpy
 
-from .apply import refresh_modes
-from .common import settings
+from ..apply import refresh_modes
+from .common import needs, reports_errors, settings
 
 PRESETS = [
-    ("ALL", "All", "Apply every mode"),
+    ("ALL", "All", "Apply every mode and the rigid motion"),
     ("NONE", "None", "Apply no mode (rigid motion only)"),
-    ("BENDING", "Bending Only", "Bends and s-bends only, no rotation, scale or translation"),
+    ("BENDING", "Bending Only", "Bends only: no other mode, no translation, rotation or scale"),
     ("INVERT", "Invert", "Swap applied and muted modes"),
 ]
 
@@ -20,6 +20,11 @@ class VOODOO_OT_select_modes(bpy.types.Operator):
 
     preset: bpy.props.EnumProperty(name="Preset", items=PRESETS, default="ALL")
 
+    @classmethod
+    def poll(cls, context):
+        return needs(cls, context, "modes")
+
+    @reports_errors
     def execute(self, context):
         s = settings(context)
         for m in s.modes:
@@ -31,8 +36,9 @@ class VOODOO_OT_select_modes(bpy.types.Operator):
                 m["enabled"] = not m.enabled
             else:
                 m["enabled"] = "bend" in m.name
-        if self.preset == "BENDING":
-            s["apply_location"] = s["apply_rotation"] = s["apply_scale"] = False
+        if self.preset in {"BENDING", "ALL"}:
+            rigid = self.preset == "ALL"
+            s["apply_location"] = s["apply_rotation"] = s["apply_scale"] = rigid
         refresh_modes(context.scene)  # once, not per toggle
         return {"FINISHED"}
 

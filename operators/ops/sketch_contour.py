@@ -1,9 +1,10 @@
 import bpy
 
-from ..voodoo_addon.blob.outline import validate_contour
-from ..voodoo_addon.errors import VoodooError
-from . import overlay
-from .common import reports_errors, settings, store_contour
+from ...voodoo_addon.blob.outline import validate_contour
+from ...voodoo_addon.errors import VoodooError
+from .. import drawing
+from ..pixels import region_to_pixel
+from .common import needs, reports_errors, settings, store_contour
 
 
 class VOODOO_OT_sketch_contour(bpy.types.Operator):
@@ -19,7 +20,7 @@ class VOODOO_OT_sketch_contour(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return context.scene.voodoo.capture_image is not None
+        return needs(cls, context, "capture")
 
     @reports_errors
     def execute(self, context):
@@ -44,9 +45,10 @@ class VOODOO_OT_sketch_contour(bpy.types.Operator):
     def modal(self, context, event):
         s = settings(context)
         if event.type == "LEFTMOUSE" and event.value == "PRESS":
-            x, y = context.region.view2d.region_to_view(event.mouse_region_x, event.mouse_region_y)
             h = s.capture_image.size[1]
-            s.contour.add().co = (x - 0.5, h - y - 0.5)
+            s.contour.add().co = region_to_pixel(
+                context.region, event.mouse_region_x, event.mouse_region_y, h
+            )
         elif event.type == "BACK_SPACE" and event.value == "PRESS" and len(s.contour):
             s.contour.remove(len(s.contour) - 1)
         elif event.type in {"RET", "NUMPAD_ENTER", "RIGHTMOUSE"} and event.value == "PRESS":
@@ -64,14 +66,14 @@ class VOODOO_OT_sketch_contour(bpy.types.Operator):
             return {"CANCELLED"}
         else:
             return {"PASS_THROUGH"}
-        overlay.tag_redraw(context)
+        drawing.tag_redraw(context)
         return {"RUNNING_MODAL"}
 
     def _finish(self, context, pts):
         s = settings(context)
         size = tuple(s.capture_image.size)
         store_contour(s, validate_contour(pts, frame_size=size))
-        overlay.tag_redraw(context)
+        drawing.tag_redraw(context)
 
 
 classes = (VOODOO_OT_sketch_contour,)

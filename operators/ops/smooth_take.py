@@ -1,8 +1,9 @@
 import bpy
 
-from ..voodoo_addon.errors import VoodooError
-from .apply import LINK_KEY, active_channelbag
-from .common import reports_errors, settings
+from ...voodoo_addon.errors import VoodooError
+from ..animation import active_channelbag
+from ..storage import read_link
+from .common import needs, reports_errors, settings
 
 
 def _take_curves(obj):
@@ -26,11 +27,15 @@ class VOODOO_OT_smooth_take(bpy.types.Operator):
         max=30.0,
     )
 
+    @classmethod
+    def poll(cls, context):
+        return needs(cls, context, "applied")
+
     @reports_errors
     def execute(self, context):
         s = settings(context)
         obj = s.target if s.target is not None else context.active_object
-        if obj is None or LINK_KEY not in obj:
+        if read_link(obj) is None:
             raise VoodooError("The target has no applied take to smooth.")
         curves = _take_curves(obj)
         if not curves:

@@ -1,6 +1,8 @@
 import bpy
 
-from .ui_modes import draw_mode_list
+from ..recorder import interrupted_takes
+from ..storage import blob_bytes, blob_meshes, blob_users
+from .mode_list import draw_mode_list
 
 
 class _ClipPanel:
@@ -61,6 +63,12 @@ class VOODOO_PT_blob(_ClipPanel, bpy.types.Panel):
         if s.blob is not None:
             layout.label(text=f"Blob: {s.blob.name}")
         draw_mode_list(layout, s)
+        unused = [m for m in blob_meshes() if not blob_users(m)]
+        if unused:
+            size = sum(blob_bytes(m) for m in unused) / 1e6
+            row = layout.row()
+            row.label(text=f"{len(unused)} unused blob(s), {size:.1f} MB", icon="ERROR")
+            row.operator("voodoo.remove_unused_blobs", text="", icon="TRASH")
 
 
 class VOODOO_PT_record(_ClipPanel, bpy.types.Panel):
@@ -82,7 +90,13 @@ class VOODOO_PT_record(_ClipPanel, bpy.types.Panel):
         layout.operator("voodoo.record_take", icon="REC")
         layout.operator("voodoo.track_clip", icon="TRACKING_FORWARDS")
         if s.last_take:
-            layout.label(text=f"Last take: {s.last_take}")
+            row = layout.row()
+            row.label(text=f"Last take: {s.last_take}")
+            row.operator("voodoo.track_clip", text="Resume", icon="PLAY").resume = True
+        lost = interrupted_takes()
+        if lost:
+            layout.label(text=f"{len(lost)} interrupted take(s) on disk", icon="ERROR")
+            layout.operator("voodoo.recover_takes", icon="RECOVER_LAST")
 
 
 classes = (VOODOO_PT_source, VOODOO_PT_outline, VOODOO_PT_blob, VOODOO_PT_record)

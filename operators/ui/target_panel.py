@@ -1,6 +1,6 @@
 import bpy
 
-from .ui_modes import draw_mode_list
+from .mode_list import draw_mode_list
 
 
 class VOODOO_PT_target(bpy.types.Panel):
@@ -24,6 +24,7 @@ class VOODOO_PT_target(bpy.types.Panel):
         draw_mode_list(layout, s)
         col = layout.column(align=True)
         col.operator("voodoo.apply_take", icon="ACTION")
+        col.operator("voodoo.apply_take", text="Apply as New Layer", icon="NLA").new_layer = True
         col.operator("voodoo.smooth_take", icon="SMOOTHCURVE")
         if s.last_take:
             layout.label(text=f"Last take: {s.last_take}")

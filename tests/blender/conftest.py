@@ -77,8 +77,8 @@ def add_mask(points_px, size, name="Outline"):
     """A Blender mask with one closed spline through pixel points (straight segments)."""
     from importlib import import_module
 
-    frames = import_module(f"{ADDON}.operators.frames")
-    co = frames.pixels_to_mask(np.asarray(points_px, dtype=float), size)
+    pixels = import_module(f"{ADDON}.operators.pixels")
+    co = pixels.pixels_to_mask(np.asarray(points_px, dtype=float), size)
     mask = bpy.data.masks.new(name)
     layer = mask.layers.new(name="Layer")
     spline = layer.splines.new()

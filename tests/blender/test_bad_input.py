@@ -31,7 +31,7 @@ def _snapshot():
 
 def test_capture_without_clip(ctx):
     before = _snapshot()
-    with pytest.raises(RuntimeError, match="No movie clip"):
+    with pytest.raises(RuntimeError, match="Open a movie clip"):
         bpy.ops.voodoo.capture_frame()
     assert _snapshot() == before
 
@@ -116,6 +116,7 @@ def test_target_flat_in_the_chosen_plane(prepared, make):
 
 
 def test_target_deleted_during_a_take(prepared, sub, make):
+    """The take ends and is kept; the stand-in goes; nothing is animated."""
     ctx = prepared
     obj = make.flat_target()
     ctx.scene.voodoo.target = obj
@@ -123,13 +124,33 @@ def test_target_deleted_during_a_take(prepared, sub, make):
     rec = sub("operators.recorder").Recorder(ctx, live=True)
     assert rec.step() and rec.step()
     bpy.data.objects.remove(bpy.data.objects["Flat"])
-    with pytest.raises(sub("voodoo_addon.errors").VoodooError, match="deleted during the take"):
-        rec.step()
-    rec.close()
+    assert rec.step() is False
+    info = rec.finish()
+    assert info["frames"] == 2 and not info["applied"]
+    assert any("deleted during the take" in n for n in info["notes"])
+    assert len(sub("operators.storage").stored_take(ctx.scene.voodoo.blob, info["take"]).take) == 2
     after = _snapshot()
     del before["objects"]["Flat"]
     assert after["objects"] == before["objects"]  # the stand-in is gone too
     assert after["actions"] == before["actions"]
+
+
+def test_stand_in_deleted_during_a_take(prepared, sub, make):
+    """Deleting the "(recording)" stand-in ends the live preview only: every frame is kept,
+    the target comes back into view and is animated."""
+    ctx = prepared
+    obj = make.flat_target(keyed=False)
+    ctx.scene.voodoo.target = obj
+    rec = sub("operators.recorder").Recorder(ctx, max_frames=8, live=True)
+    assert rec.step() and rec.step()
+    bpy.data.objects.remove(bpy.data.objects["Flat (recording)"])
+    while rec.step():
+        pass
+    info = rec.finish()
+    assert info["frames"] == 8 and info["applied"]
+    assert any("stand-in was deleted" in n for n in info["notes"])
+    assert obj.visible_get()
+    assert obj.animation_data.action.name == info["take"]
 
 
 def test_clip_that_does_not_match_the_blob(prepared, tmp_path):
@@ -152,7 +173,7 @@ def test_apply_without_take(prepared, make):
     ctx = prepared
     ctx.scene.voodoo.target = make.flat_target()
     before = _snapshot()
-    with pytest.raises(RuntimeError, match="No take yet"):
+    with pytest.raises(RuntimeError, match="Record a take first"):
         bpy.ops.voodoo.apply_take()
     assert _snapshot() == before
 

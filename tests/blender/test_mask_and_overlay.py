@@ -30,13 +30,13 @@ def _render_mask(mask, size, path):
 
 @pytest.mark.parametrize("size", [(320, 240), (240, 320)])
 def test_mask_outline_matches_blenders_raster(ctx, sub, size, tmp_path):
-    frames = sub("operators.frames")
+    pixels, clips = sub("operators.pixels"), sub("operators.clips")
     w, h = size
     # a curved blob with smooth (AUTO) handles, off-centre
     t = np.linspace(0, 2 * np.pi, 7, endpoint=False)
     r = 0.28 * min(w, h) * (1 + 0.25 * np.cos(3 * t))
     px = np.column_stack([0.55 * w + r * np.cos(t), 0.45 * h + 0.8 * r * np.sin(t)])
-    co = frames.pixels_to_mask(px, size)
+    co = pixels.pixels_to_mask(px, size)
     mask = bpy.data.masks.new("Curvy")
     spline = mask.layers.new(name="L").splines.new()
     spline.points.add(len(co) - 1)
@@ -47,7 +47,7 @@ def test_mask_outline_matches_blenders_raster(ctx, sub, size, tmp_path):
     mask.layers[0].splines[0].points[0].select_control_point = True
     bpy.context.view_layer.update()
     truth = _render_mask(mask, size, tmp_path / "mask.png")
-    poly = frames.mask_contour(mask, size)
+    poly = clips.outline_from_mask(mask, size)
     ours = np.zeros((h, w), np.uint8)
     cv2.fillPoly(ours, [np.round(poly * 16).astype(np.int32)], 1, cv2.LINE_8, 4)
     ours = ours.astype(bool)
@@ -57,24 +57,24 @@ def test_mask_outline_matches_blenders_raster(ctx, sub, size, tmp_path):
 
 
 def test_mask_pixel_round_trip(ctx, sub):
-    frames = sub("operators.frames")
+    pixels = sub("operators.pixels")
     px = np.random.default_rng(0).uniform(0, 300, (50, 2))
     for size in ((320, 240), (240, 320), (640, 640)):
-        back = frames.mask_to_pixels(frames.pixels_to_mask(px, size), size)
+        back = pixels.mask_to_pixels(pixels.pixels_to_mask(px, size), size)
         np.testing.assert_allclose(back, px, atol=1e-9)
 
 
 def test_overlay_coordinates(ctx, sub):
-    overlay = sub("operators.overlay")
+    pixels = sub("operators.pixels")
 
     def view_to_region(x, y, clip=True):  # a view zoomed 2x, panned by (10, 20)
         return (10 + 2 * x, 20 + 2 * y)
 
     pts = np.array([[0.0, 0.0], [99.0, 49.0]])  # top-left and bottom-right pixel centres
-    reg = overlay.frame_to_region(pts, 50, view_to_region)
+    reg = pixels.pixels_to_region(pts, 50, view_to_region)
     np.testing.assert_allclose(reg, [[11.0, 20 + 2 * 49.5], [10 + 2 * 99.5, 21.0]])
 
 
 def test_overlay_draw_handler_registered(addon, sub):
-    overlay = sub("operators.overlay")
-    assert overlay._handle is not None
+    drawing = sub("operators.drawing")
+    assert drawing._handle is not None

@@ -47,7 +47,11 @@ def test_panels_draw_real_properties_and_operators(prepared, sub, source):
     ctx = prepared
     ctx.scene.voodoo.source = source
     ctx.scene.voodoo.last_take = "Take"
-    panels = [cls for name in ("ui_clip", "ui_view3d") for cls in sub(f"operators.{name}").classes]
+    panels = [
+        cls
+        for name in ("ui.clip_panels", "ui.target_panel")
+        for cls in sub(f"operators.{name}").classes
+    ]
     log = []
     for cls in panels:
         cls.draw(SimpleNamespace(layout=RecordingLayout(log)), ctx)
@@ -69,7 +73,7 @@ def test_panels_draw_real_properties_and_operators(prepared, sub, source):
 
 
 def test_mode_list_rows(prepared, sub):
-    ui_modes = sub("operators.ui_modes")
+    ui_modes = sub("operators.ui.mode_list")
     log = []
     s = prepared.scene.voodoo
     row_layout = RecordingLayout(log)

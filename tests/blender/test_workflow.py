@@ -18,13 +18,13 @@ def _evaluated_world(obj):
 
 def _prediction(sub, obj, row):
     """What the engine says the target looks like at a take row."""
-    store = sub("operators.store")
+    store = sub("operators.storage")
     apply = sub("operators.apply")
     rt = sub("voodoo_addon.takes.rig")
     s = bpy.context.scene.voodoo
-    link = obj[apply.LINK_KEY]
-    blob = store.load_blob(s.blob)
-    take = store.load_take(s.blob, link["take"])
+    link = obj[store.LINK_KEY]
+    blob = store.stored_blob(s.blob)
+    take = store.stored_take(s.blob, link["take"]).take
     modes = [m for m in s.modes if m.enabled]
     rig = rt.Rig(
         blob,
@@ -59,17 +59,16 @@ def test_flat_cutout_take(prepared, sub, make):
     assert names[1:] == [f"Doll:{m.name}" for m in s.modes if m.enabled]
     # a new action named after the take, with an object slot and a key slot
     action = obj.animation_data.action
-    assert action is not old_action and action.name.startswith(take_name)
+    assert action is not old_action and action.name == take_name
     assert obj.data.shape_keys.animation_data.action is action
     assert {slot.target_id_type for slot in action.slots} == {"OBJECT", "KEY"}
     # the animation that was there survives in the NLA
     strips = [st for tr in obj.animation_data.nla_tracks for st in tr.strips]
     assert [st.action for st in strips] == [old_action]
     # keys on every tracked frame
-    store = sub("operators.store")
-    apply = sub("operators.apply")
-    take = store.load_take(s.blob, take_name)
-    frames = apply.take_frames(s.blob, take_name, take)
+    store = sub("operators.storage")
+    take = store.stored_take(s.blob, take_name).take
+    frames = store.stored_take(s.blob, take_name).frames
     assert not take.lost.any()
     from bpy_extras import anim_utils
 
@@ -92,9 +91,9 @@ def test_doll_shaped_target_follows_tracked_nodes(prepared, sub):
     """A character whose vertices sit on the doll's nodes moves exactly like the tracked nodes."""
     ctx = prepared
     s = ctx.scene.voodoo
-    store = sub("operators.store")
+    store = sub("operators.storage")
     rt = sub("voodoo_addon.takes.rig")
-    blob = store.load_blob(s.blob)
+    blob = store.stored_blob(s.blob)
     # the doll laid onto the XZ plane at 1 unit = 50 px, centred at the origin
     v = np.zeros((blob.n_nodes, 3))
     centre = 0.5 * (blob.vertices.min(axis=0) + blob.vertices.max(axis=0))
@@ -105,10 +104,10 @@ def test_doll_shaped_target_follows_tracked_nodes(prepared, sub):
     obj = bpy.data.objects.new("DollShape", mesh)
     ctx.scene.collection.objects.link(obj)
     take_name = _track(ctx, obj)
-    take = store.load_take(s.blob, take_name)
+    take = store.stored_take(s.blob, take_name).take
     mapping = rt.mapping_from_list("XZ", obj["voodoo"]["mapping"])
     assert mapping.scale == pytest.approx(1 / 50.0)
-    frames = sub("operators.apply").take_frames(s.blob, take_name, take)
+    frames = sub("operators.storage").stored_take(s.blob, take_name).frames
     for row in (4, 10, 19):
         ctx.scene.frame_set(int(frames[row]))
         expected = mapping.to_target(take.vertices[row])
@@ -129,8 +128,7 @@ def test_solid_3d_target(prepared, sub, make):
         co = np.array([p.co for p in kb.data])
         assert np.abs(co[:, 1] - rest[:, 1]).max() < 1e-6
         assert np.abs(co[:, [0, 2]] - rest[:, [0, 2]]).max() > 1e-4
-    take = sub("operators.store").load_take(s.blob, take_name)
-    frames = sub("operators.apply").take_frames(s.blob, take_name, take)
+    frames = sub("operators.storage").stored_take(s.blob, take_name).frames
     ctx.scene.frame_set(int(frames[15]))
     predicted, _ = _prediction(sub, obj, 15)
     assert np.abs(_evaluated_world(obj) - predicted).max() < 1e-4 * np.abs(predicted).max()
@@ -147,15 +145,17 @@ def test_mode_subset_toggle_and_gain(prepared, sub, make):
     _track(ctx, obj)
     keys = obj.data.shape_keys.key_blocks
     assert [kb.name for kb in keys[1:]] == [f"Doll:{n}" for n in bending]
-    # transform curves are written but muted: no rigid motion reaches the target (the
-    # tracking-quality curve is not motion and stays on)
+    # transform curves hold the rest pose with one key: no rigid motion reaches the target,
+    # nothing freezes at the current frame's pose and no earlier layer shows through (the
+    # tracking-quality curve is not motion and keeps every frame)
     from bpy_extras import anim_utils
 
     bag = anim_utils.action_get_channelbag_for_slot(
         obj.animation_data.action, obj.animation_data.action_slot
     )
     motion = [fc for fc in bag.fcurves if not fc.data_path.startswith('["')]
-    assert motion and all(fc.mute for fc in motion)
+    assert len(motion) == 9 and all(len(fc.keyframe_points) == 1 for fc in motion)
+    assert all(not fc.mute for fc in motion)
     # switching on a mode that was not applied writes it from the stored take, no tracking
     other = next(m for m in s.modes if not m.enabled)
     other.enabled = True
@@ -180,17 +180,24 @@ def test_mode_subset_toggle_and_gain(prepared, sub, make):
     mode.gain = 2.0
     after = np.array([p.co for p in keys[f"Doll:{mode.name}"].data]) - basis
     assert np.allclose(after, 2.0 * before, atol=1e-6)
-    # rigid toggles unmute the transform curves
+    # a rigid switch rewrites that part of the transform from the take; "All" restores all
     s.apply_rotation = True
-    assert all(not fc.mute for fc in bag.fcurves if fc.data_path.startswith("rotation"))
+    rotation = [fc for fc in bag.fcurves if fc.data_path.startswith("rotation")]
+    assert rotation and all(len(fc.keyframe_points) == 20 for fc in rotation)
+    assert bpy.ops.voodoo.select_modes(preset="ALL") == {"FINISHED"}
+    assert s.apply_location and s.apply_rotation and s.apply_scale
+    assert all(len(fc.keyframe_points) == 20 for fc in bag.fcurves)
 
 
-def test_applying_again_keeps_previous_take(prepared, make):
+def test_applying_again_updates_in_place_or_adds_a_layer(prepared, make):
     ctx = prepared
     obj = make.flat_target(keyed=False)
     _track(ctx, obj)
     first = obj.animation_data.action
     assert bpy.ops.voodoo.apply_take() == {"FINISHED"}
+    assert obj.animation_data.action is first  # the same take's action, rewritten
+    assert len(obj.animation_data.nla_tracks) == 0
+    assert bpy.ops.voodoo.apply_take(new_layer=True) == {"FINISHED"}
     second = obj.animation_data.action
     assert second is not first
     assert first in [st.action for tr in obj.animation_data.nla_tracks for st in tr.strips]
@@ -295,35 +302,37 @@ def test_live_camera_take_is_time_stamped_and_saved(
         pass
     info = rec.finish()
     assert info["frames"] == 9
-    frames = sub("operators.apply").take_frames(
-        s.blob, info["take"], sub("operators.store").load_take(s.blob, info["take"])
-    )
+    frames = sub("operators.storage").stored_take(s.blob, info["take"]).frames
     assert frames.tolist() == list(range(10, 28, 2))
     clip = info["clip"]
     assert clip.frame_start == 10 and clip.frame_duration == 9
     assert (tmp_path / "voodoo_footage" / f"{info['take']}.avi").exists()
 
 
-def test_modal_recording_steps_on_timer_and_keeps_the_take_on_escape(prepared, sub, make):
-    """Drive the modal operator's own modal() with the events Blender would send."""
-    from types import SimpleNamespace
-
-    ctx = prepared
-    ctx.scene.voodoo.target = make.flat_target(keyed=False)
-    op_cls = sub("operators.op_record").VOODOO_OT_record_take
+def _modal_harness(sub, live, tick_seconds=0.0):
+    """The take operators' modal mechanics on a stand-in for the operator instance (the bpy
+    module has no event loop to run the real one)."""
+    take_loop = sub("operators.ops.take_loop")
     reports = []
 
-    class Harness:  # the operator's methods, run on a stand-in for the operator instance
-        modal = op_cls.__dict__["modal"]
-        cancel = op_cls.__dict__["cancel"]
-        _end = op_cls.__dict__["_end"]
-        _remove_timer = op_cls.__dict__["_remove_timer"]
-        _timer = None
+    class Harness(take_loop.TakeLoop):
+        bl_label = "Take"
 
         def report(self, kind, message):
             reports.append((tuple(kind), message))
 
     op = Harness()
+    op.live, op.tick_seconds = live, tick_seconds
+    return op, reports
+
+
+def test_modal_recording_steps_on_timer_and_keeps_the_take_on_escape(prepared, sub, make):
+    """Drive the modal loop with the events Blender would send."""
+    from types import SimpleNamespace
+
+    ctx = prepared
+    ctx.scene.voodoo.target = make.flat_target(keyed=False)
+    op, reports = _modal_harness(sub, live=True)
     op._recorder = sub("operators.recorder").Recorder(ctx, live=True)
     timer = SimpleNamespace(type="TIMER")
     assert op.modal(ctx, SimpleNamespace(type="MOUSEMOVE")) == {"PASS_THROUGH"}
@@ -333,7 +342,29 @@ def test_modal_recording_steps_on_timer_and_keeps_the_take_on_escape(prepared, s
     assert op.modal(ctx, SimpleNamespace(type="ESC")) == {"FINISHED"}
     take = ctx.scene.voodoo.last_take
     assert take == "Take"
-    stored = sub("operators.store").load_take(ctx.scene.voodoo.blob, take)
+    stored = sub("operators.storage").stored_take(ctx.scene.voodoo.blob, take).take
     assert len(stored) == 5  # what was recorded before Esc is kept, and applied
     assert any("applied as action" in m for _, m in reports)
-    assert ctx.scene.voodoo.target.animation_data.action.name.startswith("Take")
+    assert ctx.scene.voodoo.target.animation_data.action.name == "Take"
+
+
+def test_track_whole_clip_runs_in_ticks_and_stops_on_escape(prepared, sub, make):
+    """Track Whole Clip tracks several frames per timer tick and keeps the take on Esc."""
+    from types import SimpleNamespace
+
+    ctx = prepared
+    ctx.scene.voodoo.target = make.flat_target(keyed=False)
+    op, reports = _modal_harness(sub, live=False, tick_seconds=0.0)
+    op._recorder = sub("operators.recorder").Recorder(ctx, live=False)
+    timer = SimpleNamespace(type="TIMER")
+    for _ in range(3):
+        assert op.modal(ctx, timer) == {"RUNNING_MODAL"}
+    assert op._recorder.progress == pytest.approx(3 / 20)
+    assert op.modal(ctx, SimpleNamespace(type="ESC")) == {"FINISHED"}
+    stored = sub("operators.storage").stored_take(ctx.scene.voodoo.blob, "Take")
+    assert len(stored.take) == 3
+    # a long tick tracks the rest of the clip in one go
+    op, _ = _modal_harness(sub, live=False, tick_seconds=60.0)
+    op._recorder = sub("operators.recorder").Recorder(ctx, live=False)
+    assert op.modal(ctx, timer) == {"FINISHED"}
+    assert len(sub("operators.storage").stored_take(ctx.scene.voodoo.blob, "Take.002").take) == 20
