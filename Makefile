@@ -2,13 +2,13 @@
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
-STAMP  := $(VENV)/.installed-$(shell cat requirements.txt requirements-dev.txt | cksum | cut -d' ' -f1)
+STAMP  := $(VENV)/.installed-$(shell cat requirements.txt requirements-test.txt requirements-dev.txt | cksum | cut -d' ' -f1)
 
 .PHONY: setup mesa test demo bench lint extension clean
 
 setup: $(STAMP)
 
-$(STAMP): requirements.txt requirements-dev.txt
+$(STAMP): requirements.txt requirements-test.txt requirements-dev.txt
 	$(PYTHON) -m venv $(VENV) || { scripts/ensure_debs.sh python3-venv && $(PYTHON) -m venv $(VENV); }
 	$(BIN)/python -m pip install -q --upgrade pip
 	$(BIN)/python -m pip install -q -r requirements-dev.txt
@@ -18,7 +18,7 @@ $(STAMP): requirements.txt requirements-dev.txt
 mesa:
 	@scripts/ensure_debs.sh libegl1 libegl-mesa0 libgl1-mesa-dri libgbm1
 
-## Run the whole test suite (engine + real Blender, headless).
+## Run the whole test suite (engine + packaging + real Blender, headless).
 test: setup mesa
 	$(BIN)/python -m pytest
 
@@ -30,7 +30,8 @@ demo: setup mesa
 bench: setup
 	$(BIN)/python -m voodoo_addon bench
 
-## Download the manifest's wheels and build one validated extension zip per platform into dist/.
+## Download the manifest's wheels and build one validated extension zip per platform into dist/,
+## each holding the wheels for Blender 5.0 (CPython 3.11) and 5.1 and later (CPython 3.13).
 extension: setup
 	$(BIN)/python scripts/build_extension.py
 
