@@ -60,4 +60,4 @@ lint: setup
 	$(BIN)/ruff check .
 
 clean:
-	rm -rf out dist wheels .pytest_cache
+	rm -rf out dist wheels build *.egg-info .pytest_cache
