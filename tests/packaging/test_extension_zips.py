@@ -281,3 +281,14 @@ def test_the_manifest_bundles_exactly_the_pinned_requirements():
         bundled.setdefault(name, set()).add(version)
     assert bundled == {name: {version} for name, version in dependencies().items()}
 
+
+def test_the_readme_licences_name_every_bundled_wheel():
+    text = (ROOT / "README.md").read_text()
+    section = re.search(r"^## Licences\n(.*?)(?=^## |\Z)", text, re.S | re.M)
+    assert section, "README has no Licences section"
+    body = section.group(1).lower()
+    manifest = tomllib.loads((ROOT / "blender_manifest.toml").read_text())
+    for wheel in manifest["wheels"]:
+        name, version, *_ = parse_wheel_filename(Path(wheel).name)
+        assert f"{name} {version}" in body.replace("`", ""), f"{name} {version} not in Licences"
+    assert "commercial" in body  # Triangle's licence: said plainly
