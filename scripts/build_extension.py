@@ -3,7 +3,9 @@
 ``blender_manifest.toml`` is the single source of truth: every path in its ``wheels`` list is
 downloaded with pip (exact file names, so nothing can drift), wheels it no longer lists are
 removed from ``./wheels``, and Blender's own ``blender_ext.py`` (shipped in the bpy wheel) builds
-one zip per platform into ``dist/`` and validates each of them.
+one zip per platform into ``dist/`` and validates each of them. Each zip holds its platform's wheels
+for every Python the manifest bundles (3.11 for Blender 5.0, 3.13 for 5.1 and later); Blender
+extracts the ones matching its own Python when the extension is installed.
 
 Usage: ``python scripts/build_extension.py`` (``make extension``).
 """
@@ -19,7 +21,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 WHEELS = ROOT / "wheels"
 DIST = ROOT / "dist"
-BLENDER_PYTHON = "3.11"  # the CPython that Blender 5.0 runs
+OLDEST_PYTHON = "3.11"  # Blender 5.0's CPython: pip's target for pure-Python and abi3 wheels
 
 
 def manifest() -> dict:
@@ -32,10 +34,22 @@ def wheel_files(data: dict) -> list[Path]:
     return [ROOT / path for path in data.get("wheels", [])]
 
 
+def python_version(python_tag: str, abi: str) -> str:
+    """The Python that pip should download a wheel for, from its Python and ABI tags.
+
+    ``cp313``/``cp313`` gives ``3.13``; ``py3``/``none`` and ``cp37``/``abi3`` (any later CPython)
+    give the oldest Python that Blender 5.x runs.
+    """
+    if python_tag.startswith("cp") and abi == python_tag:
+        return f"{python_tag[2]}.{python_tag[3:]}"
+    return OLDEST_PYTHON
+
+
 def pip_download_args(filename: str) -> list[str]:
     """Pip arguments that select exactly the wheel ``filename`` (name, version and tags)."""
-    name, version, _python, abi, platforms = filename.removesuffix(".whl").split("-")
-    args = ["--python-version", BLENDER_PYTHON, "--implementation", "cp", "--abi", abi]
+    name, version, python_tag, abi, platforms = filename.removesuffix(".whl").split("-")
+    args = ["--python-version", python_version(python_tag, abi), "--implementation", "cp"]
+    args += ["--abi", abi]
     for platform in platforms.split("."):
         args += ["--platform", platform]
     return [*args, f"{name}=={version}"]

@@ -171,7 +171,13 @@ def cmd_bench(args) -> int:
 
 def cmd_synth(args) -> int:
     from .blob.outline import save_contour_json
-    from .devtools.scenarios import write_scenario
+
+    try:
+        from .devtools.scenarios import write_scenario
+    except ImportError:
+        raise VoodooError(
+            "Synthetic takes are a development tool: run them from a checkout of the repository."
+        ) from None
 
     contour = write_scenario(args.scenario, args.out, frames=args.frames, size=tuple(args.size))
     if args.contour:

@@ -73,6 +73,18 @@ def record_take(clip_path: str, outline: list) -> dict:
     }
 
 
+def wheel_tags(site_packages: Path) -> dict:
+    """The distributions Blender extracted into its site-packages: name -> their wheels' tags."""
+    return {
+        info.name.split("-")[0]: [
+            line.split(":", 1)[1].strip()
+            for line in (info / "WHEEL").read_text().splitlines()
+            if line.startswith("Tag:")
+        ]
+        for info in site_packages.glob("*.dist-info")
+    }
+
+
 def main(zip_path: str, clip_path: str, outline_path: str) -> dict:
     seen = {"importable_before": importable()}
     run(
@@ -84,6 +96,7 @@ def main(zip_path: str, clip_path: str, outline_path: str) -> dict:
     seen["enabled"] = ADDON in bpy.context.preferences.addons
     seen["take"] = record_take(clip_path, json.loads(Path(outline_path).read_text())["points"])
     seen["files"] = {name: sys.modules[name].__file__ for name in BUNDLED}
+    seen["wheel_tags"] = wheel_tags(Path(sys.modules["scipy"].__file__).parents[1])
     run(bpy.ops.preferences.addon_disable, module=ADDON)
     seen["enabled_after_disable"] = ADDON in bpy.context.preferences.addons
     run(

@@ -89,7 +89,7 @@ def segment_mask(frame: np.ndarray, point=None, box=None) -> np.ndarray:
                 "The point is on the background; click on the object itself or drag a box."
             )
         ys, xs = np.nonzero(labels == lab)
-        pad = 0.1 * max(xs.ptp(), ys.ptp()) + 4
+        pad = 0.1 * max(np.ptp(xs), np.ptp(ys)) + 4
         x0, y0 = max(0, int(xs.min() - pad)), max(0, int(ys.min() - pad))
         x1, y1 = min(sw - 1, int(xs.max() + pad)), min(sh - 1, int(ys.max() + pad))
         mask = _grabcut_rect(img8, (x0, y0, x1 - x0, y1 - y0))
