@@ -26,6 +26,7 @@ from .animation import (
     write_quality,
 )
 from .storage import (
+    SHAPE_GAIN_KEY,
     TargetLink,
     is_take_action,
     linked_to,
@@ -112,8 +113,21 @@ def shape_for_mode(obj, blob_mesh, mode, offsets_row, rest):
         kb = obj.shape_key_add(name=name, from_mix=False)
         kb.slider_min, kb.slider_max = -SLIDER_RANGE, SLIDER_RANGE
     kb.data.foreach_set("co", (rest + gain * offsets_row).ravel())
+    gains = obj.data.shape_keys.get(SHAPE_GAIN_KEY)
+    if gains is None:
+        obj.data.shape_keys[SHAPE_GAIN_KEY] = gains = {}
+    gains[name] = gain
     kb.mute = not mode.enabled
     return kb
+
+
+def _shape_is_current(obj, blob_mesh, mode) -> bool:
+    """True when the mode's shape key exists and was written with the mode's gain."""
+    key = obj.data.shape_keys
+    name = key_name(blob_mesh, mode.name)
+    if key is None or key.key_blocks.get(name) is None:
+        return False
+    return key.get(SHAPE_GAIN_KEY, {}).get(name) == _gain(mode)
 
 
 def _chosen_modes(s, blob) -> list:
@@ -271,15 +285,24 @@ def _refresh_object(scene, obj, s, blob) -> None:
         for m in s.modes
         if m.index < blob.n_modes and (m.enabled or key_name(s.blob, m.name) in present)
     ]
-    for m in modes:
-        _gain(m)
-    layout = ParamLayout(tuple(str(x) for x in blob.labels))
-    shapes = Rig(blob, layout, rest, modes=[m.index for m in modes], mapping=mapping)
+    stale = [m for m in modes if not _shape_is_current(obj, s.blob, m)]
+    if stale:  # new modes, or gains changed: (re)write only those shapes
+        shapes = Rig(
+            blob,
+            ParamLayout(tuple(str(x) for x in blob.labels)),
+            rest,
+            modes=[m.index for m in stale],
+            mapping=mapping,
+        )
+        for mode, offset in zip(stale, shapes.offsets, strict=True):
+            shape_for_mode(obj, s.blob, mode, offset, rest)
+    key_blocks = obj.data.shape_keys.key_blocks if modes else {}
+    bag = active_channelbag(obj.data.shape_keys) if modes else None
     missing = []
-    for mode, offset in zip(modes, shapes.offsets, strict=True):
-        kb = shape_for_mode(obj, s.blob, mode, offset, rest)
+    for mode in modes:
+        kb = key_blocks[key_name(s.blob, mode.name)]
+        kb.mute = not mode.enabled
         path = f'key_blocks["{kb.name}"].value'
-        bag = active_channelbag(obj.data.shape_keys)
         fc = bag.fcurves.find(path) if bag is not None else None
         if fc is None and mode.enabled:
             missing.append((mode.index, path))

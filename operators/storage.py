@@ -44,6 +44,8 @@ LINK_KEY = "voodoo"
 QUALITY_PROP = "voodoo_quality"
 ACTION_TAKE_KEY = "voodoo_take"
 ACTION_BLOB_KEY = "voodoo_blob"
+#: On a target's shape keys (the Key): the gain each mode's shape was written with.
+SHAPE_GAIN_KEY = "voodoo_gain"
 RECOVERY_DIR = "voodoo_recovery"
 #: Camera footage and camera captures are saved here, beside the .blend.
 FOOTAGE_DIR = "voodoo_footage"
