@@ -206,3 +206,33 @@ def test_lost_frames_are_not_keyed(ctx, make, tmp_path):
     for f in keyed:
         vals = [fc.evaluate(f) for fc in bag.fcurves]
         assert np.isfinite(vals).all()
+
+
+def test_outline_off_the_frame(prepared, make):
+    """A mask drawn mostly outside the picture: clipped to the frame or refused, never a
+    blob with pixels that do not exist."""
+    before = _snapshot()
+    make.add_mask([(250, 150), (600, 150), (600, 500), (250, 500)], (320, 240), name="Off")
+    try:
+        bpy.ops.voodoo.contour_from_mask(mask="Off")
+    except RuntimeError as exc:
+        assert "frame" in str(exc) or "picture" in str(exc)
+        assert _snapshot()["contour"] == before["contour"]
+        return
+    points = np.array([p.co for p in bpy.context.scene.voodoo.contour])
+    assert (points >= 0).all() and (points[:, 0] <= 320).all() and (points[:, 1] <= 240).all()
+
+
+@pytest.mark.parametrize("damage", ["truncated", "garbage"])
+def test_damaged_blob_in_the_file(prepared, sub, make, damage):
+    """A blob whose stored bytes were damaged says so; nothing is tracked or changed."""
+    store = sub("operators.storage")
+    blob = prepared.scene.voodoo.blob
+    raw = bytes(blob[store.BLOB_KEY])
+    blob[store.BLOB_KEY] = raw[: len(raw) // 2] if damage == "truncated" else b"\x00junk" * 50
+    blob[store.BLOB_ID_KEY] = "damaged"  # what a file from elsewhere would carry
+    prepared.scene.voodoo.target = make.flat_target()
+    before = _snapshot()
+    with pytest.raises(RuntimeError, match="Blob 'Doll'"):
+        bpy.ops.voodoo.track_clip()
+    assert _snapshot() == before
