@@ -40,7 +40,10 @@ def _offscreen_works() -> bool:
 
 
 def _initialise_background() -> None:
-    """One tiny Workbench render brings the GPU up in background mode (DESIGN.md)."""
+    """One tiny Workbench render brings the GPU up in background mode.
+
+    See docs/design.md, *Blender facts*.
+    """
     scene = bpy.data.scenes.new(".voodoo_gpu_init")
     cam_data = bpy.data.cameras.new(".voodoo_gpu_init")
     cam = bpy.data.objects.new(".voodoo_gpu_init", cam_data)

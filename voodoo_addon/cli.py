@@ -1,6 +1,6 @@
 """Command line: ``python -m voodoo_addon {blob,track,check,segment,bench,synth} ...``.
 
-Bad input exits with status 2 and one line on stderr; see DESIGN.md for the contract.
+Bad input exits with status 2 and one line on stderr; see docs/design.md, *Command line*.
 """
 
 from __future__ import annotations

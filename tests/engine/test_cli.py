@@ -1,6 +1,7 @@
 """The command line, run the way a user runs it: ``python -m voodoo_addon ...`` in a subprocess.
 
-Contract (DESIGN.md): exit code 0 on success, 2 with a one-line message on stderr on bad input.
+Contract (docs/design.md, *Command line*): exit code 0 on success, 2 with a one-line message on
+stderr on bad input.
 """
 
 from __future__ import annotations
@@ -269,7 +270,7 @@ def test_segment_writes_a_contour(repo_root, tmp_path):
 
 @pytest.mark.slow
 def test_bench_prints_one_json_line(repo_root):
-    # DESIGN.md: `python -m voodoo_addon bench --json` prints one JSON line of the benchmark.
+    # `python -m voodoo_addon bench --json` prints one JSON line of the benchmark.
     proc = run_cli(repo_root, "bench", "--json", "--quick", timeout=300)
     assert proc.returncode == 0, proc.stderr[-2000:]
     lines = proc.stdout.strip().splitlines()

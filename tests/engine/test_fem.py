@@ -1,4 +1,4 @@
-"""Finite-element model on Gaussian interpolants and its modes (DESIGN.md "Formulas")."""
+"""Finite-element model on Gaussian interpolants and its modes."""
 
 from __future__ import annotations
 

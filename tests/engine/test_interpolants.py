@@ -37,7 +37,7 @@ def nodes(request):
 @pytest.mark.parametrize("width_factor", [0.5, 1.0, 1.5])
 def test_interpolates_at_the_nodes(nodes, width_factor):
     h = GaussianInterpolant(nodes, width_factor=width_factor)
-    # Wider Gaussians condition G worse (DESIGN.md); 1e-6 is still "exactly delta_ij".
+    # Wider Gaussians condition G worse; 1e-6 is still "exactly delta_ij".
     np.testing.assert_allclose(h(nodes), np.eye(len(nodes)), atol=1e-6)
 
 

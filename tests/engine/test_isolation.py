@@ -91,5 +91,5 @@ def test_engine_source_has_no_blender_or_absolute_self_imports(path):
         top = module.split(".")[0]
         if level == 0:
             assert top not in BLENDER_MODULES, f"{path.name} imports {module}"
-            # Relative imports only inside the engine (DESIGN.md "Layout pitfalls").
+            # Relative imports only inside the engine (docs/design.md, *Layout rules*).
             assert top != "voodoo_addon", f"{path.name} imports {module} absolutely"

@@ -12,7 +12,7 @@ Normalisation (so that numbers mean the same for every blob size):
   same for a scaled copy of the blob.
 
 The integrals are quadratures over the blob's pixel centres (the honest choice for a
-bounded region, DESIGN.md).
+bounded region).
 """
 
 from __future__ import annotations

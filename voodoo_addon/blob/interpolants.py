@@ -7,7 +7,8 @@ augmented by the linear polynomials ``p(x) = (1, x, y)`` under the usual side co
 * ``h_i(X_j) = delta_ij`` (interpolation), and
 * constant and linear fields are reproduced *exactly* everywhere (``sum_i h_i(x) = 1``,
   ``sum_i h_i(x) X_i = x``), so translations and the linearised rotation carry zero strain
-  energy; plain Gaussian interpolants only approximate them (DESIGN.md, "Formulas").
+  energy; plain Gaussian interpolants only approximate them (docs/design.md, *Data flow*,
+  step 4).
 """
 
 from __future__ import annotations

@@ -35,10 +35,11 @@ class LorentzianNorm(RobustNorm):
     Parameters
     ----------
     sigma : float
-        Expected spread of inlier differences, in image units (images are in [0, 1]).
+        Expected spread of inlier differences, in image units (images are in [0, 1]). No
+        default here: the tracker's is :attr:`TrackerOptions.sigma`.
     """
 
-    def __init__(self, sigma: float = 0.08):
+    def __init__(self, sigma: float):
         if not sigma > 0:
             raise ValueError("sigma must be positive")
         self.sigma = float(sigma)
@@ -57,7 +58,7 @@ class LorentzianNorm(RobustNorm):
 class QuadraticNorm(RobustNorm):
     """``rho(e, sigma) = e^2 / (2 sigma^2)``: plain least squares (the Gaussian-noise optimum)."""
 
-    def __init__(self, sigma: float = 0.08):
+    def __init__(self, sigma: float):
         self.sigma = float(sigma)
         self._k = 1.0 / (2.0 * self.sigma**2)
 
