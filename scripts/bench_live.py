@@ -24,7 +24,7 @@ import bpy  # noqa: E402  (Blender first)
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(__file__))
-from blender_addon import enable_from_checkout  # noqa: E402
+from blender_addon import enable_from_checkout, sample_blob_scene  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -66,13 +66,8 @@ def main() -> None:
     import importlib
 
     recorder = importlib.import_module(f"{module}.operators.recorder")
-    bpy.ops.wm.read_homefile(use_empty=True)
+    sample_blob_scene()
     scene = bpy.context.scene
-    scene.active_clip = bpy.data.movieclips.load(str(ROOT / "samples" / "sample_take.mp4"))
-    bpy.ops.voodoo.capture_frame()
-    points = json.loads((ROOT / "samples" / "sample_take.json").read_text())["points"]
-    bpy.ops.voodoo.sketch_contour(coords=", ".join(f"{x} {y}" for x, y in points))
-    bpy.ops.voodoo.build_blob(name="Doll")
     target = grid_target(args.vertices)
     scene.voodoo.target = target
     scene.voodoo.axes = "XY"

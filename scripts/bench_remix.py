@@ -25,7 +25,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(__file__))
 from bench_live import grid_target  # noqa: E402
-from blender_addon import enable_from_checkout  # noqa: E402
+from blender_addon import enable_from_checkout, sample_blob_scene  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -55,14 +55,9 @@ def main() -> None:
     import importlib
 
     storage = importlib.import_module(f"{module}.operators.storage")
-    bpy.ops.wm.read_homefile(use_empty=True)
+    sample_blob_scene()
     scene = bpy.context.scene
     s = scene.voodoo
-    scene.active_clip = bpy.data.movieclips.load(str(ROOT / "samples" / "sample_take.mp4"))
-    bpy.ops.voodoo.capture_frame()
-    points = json.loads((ROOT / "samples" / "sample_take.json").read_text())["points"]
-    bpy.ops.voodoo.sketch_contour(coords=", ".join(f"{x} {y}" for x, y in points))
-    bpy.ops.voodoo.build_blob(name="Doll")
     bpy.ops.voodoo.track_clip(max_frames=150)  # no target yet: the take is only stored
     frames = long_take(storage, s.blob, s.last_take, args.frames)
     scene.frame_end = frames + 1

@@ -32,3 +32,21 @@ def enable_from_checkout(repo_module: str = "voodoo_checkout", scratch: Path | N
     if addon_utils.enable(module, default_set=True, handle_error=None) is None:
         raise RuntimeError(f"could not enable {module}")
     return module
+
+
+def sample_blob_scene(name: str = "Doll") -> None:
+    """An empty scene with the sample take as its clip and a blob built on its first frame.
+
+    The add-on must be enabled (:func:`enable_from_checkout`).
+    """
+    import json
+
+    import bpy
+
+    bpy.ops.wm.read_homefile(use_empty=True)
+    scene = bpy.context.scene
+    scene.active_clip = bpy.data.movieclips.load(str(ROOT / "samples" / "sample_take.mp4"))
+    bpy.ops.voodoo.capture_frame()
+    points = json.loads((ROOT / "samples" / "sample_take.json").read_text())["points"]
+    bpy.ops.voodoo.sketch_contour(coords=", ".join(f"{x} {y}" for x, y in points))
+    bpy.ops.voodoo.build_blob(name=name)

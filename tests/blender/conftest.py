@@ -60,17 +60,28 @@ def sub(addon):
     return lambda name: importlib.import_module(f"{ADDON}.{name}")
 
 
-@pytest.fixture(scope="session")
-def clip_file():
-    """A short lossless synthetic take (bending, turning doll) and its outline on frame 0."""
+def _scenario_clip(name: str, frames: int) -> dict:
+    """A lossless synthetic take of a named scenario, and its outline on frame 0."""
     sys.path.insert(0, str(ROOT))
     from voodoo_addon.devtools.scenarios import scenario_take
     from voodoo_addon.devtools.synthetic import write_frames
 
-    frames, contour, truth = scenario_take("mixed", frames=20, size=(320, 240))
-    path = _scratch / "mixed.avi"
-    write_frames(path, frames)
-    return {"path": path, "contour": contour, "frames": frames, "truth": truth}
+    pictures, contour, truth = scenario_take(name, frames=frames, size=(320, 240))
+    path = _scratch / f"{name}.avi"
+    write_frames(path, pictures)
+    return {"path": path, "contour": contour, "frames": pictures, "truth": truth}
+
+
+@pytest.fixture(scope="session")
+def clip_file():
+    """A short take of a bending, turning doll."""
+    return _scenario_clip("mixed", 20)
+
+
+@pytest.fixture(scope="session")
+def exit_clip():
+    """A take in which the doll leaves the picture for a few frames."""
+    return _scenario_clip("exit", 24)
 
 
 def add_mask(points_px, size, name="Outline"):
@@ -92,17 +103,22 @@ def add_mask(points_px, size, name="Outline"):
     return mask
 
 
-@pytest.fixture
-def prepared(ctx, clip_file):
-    """Clip loaded, frame captured, outline from a mask, blob built: the state before a take."""
-    scene = ctx.scene
-    clip = bpy.data.movieclips.load(str(clip_file["path"]))
+def prepare(clip_info) -> None:
+    """Load a clip, capture its first frame, outline it from a mask, build the blob."""
+    scene = bpy.context.scene
+    clip = bpy.data.movieclips.load(str(clip_info["path"]))
     scene.active_clip = clip
     scene.frame_set(clip.frame_start)
     assert bpy.ops.voodoo.capture_frame() == {"FINISHED"}
-    add_mask(clip_file["contour"], tuple(clip.size))
+    add_mask(clip_info["contour"], tuple(clip.size))
     assert bpy.ops.voodoo.contour_from_mask() == {"FINISHED"}
     assert bpy.ops.voodoo.build_blob(name="Doll") == {"FINISHED"}
+
+
+@pytest.fixture
+def prepared(ctx, clip_file):
+    """Clip loaded, frame captured, outline from a mask, blob built: the state before a take."""
+    prepare(clip_file)
     return ctx
 
 
@@ -144,7 +160,9 @@ def read_json(path):
 @pytest.fixture
 def make(addon):
     """Scene builders for the tests: ``make.flat_target()``, ``make.solid_target()``,
-    ``make.add_mask(points, size)``."""
+    ``make.add_mask(points, size)``, ``make.prepare(clip)`` (blob built on a clip fixture)."""
     from types import SimpleNamespace
 
-    return SimpleNamespace(flat_target=flat_target, solid_target=solid_target, add_mask=add_mask)
+    return SimpleNamespace(
+        flat_target=flat_target, solid_target=solid_target, add_mask=add_mask, prepare=prepare
+    )

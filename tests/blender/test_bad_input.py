@@ -178,20 +178,9 @@ def test_apply_without_take(prepared, make):
     assert _snapshot() == before
 
 
-def test_lost_frames_are_not_keyed(ctx, make, tmp_path):
+def test_lost_frames_are_not_keyed(ctx, make, exit_clip):
     """A take where the doll leaves the picture: those frames get no keys and are reported."""
-    from voodoo_addon.devtools.scenarios import scenario_take
-    from voodoo_addon.devtools.synthetic import write_frames
-
-    frames, contour, _ = scenario_take("exit", frames=24, size=(320, 240))
-    path = tmp_path / "exit.avi"
-    write_frames(path, frames)
-    clip = bpy.data.movieclips.load(str(path))
-    ctx.scene.active_clip = clip
-    bpy.ops.voodoo.capture_frame()
-    make.add_mask(contour, (320, 240))
-    bpy.ops.voodoo.contour_from_mask()
-    bpy.ops.voodoo.build_blob(name="Doll")
+    make.prepare(exit_clip)
     obj = make.flat_target(keyed=False)
     ctx.scene.voodoo.target = obj
     assert bpy.ops.voodoo.track_clip() == {"FINISHED"}

@@ -50,18 +50,8 @@ def test_low_quality_stretches_get_one_marker_each(ctx, sub):
     assert [m.name for m in scene.timeline_markers] == ["Mine"]
 
 
-def test_a_take_that_leaves_the_picture_is_marked_and_reported(ctx, make, tmp_path, sub):
-    from voodoo_addon.devtools.scenarios import scenario_take
-    from voodoo_addon.devtools.synthetic import write_frames
-
-    frames, contour, _ = scenario_take("exit", frames=24, size=(320, 240))
-    path = tmp_path / "exit.avi"
-    write_frames(path, frames)
-    ctx.scene.active_clip = bpy.data.movieclips.load(str(path))
-    bpy.ops.voodoo.capture_frame()
-    make.add_mask(contour, (320, 240))
-    bpy.ops.voodoo.contour_from_mask()
-    bpy.ops.voodoo.build_blob(name="Doll")
+def test_a_take_that_leaves_the_picture_is_marked_and_reported(ctx, make, exit_clip, sub):
+    make.prepare(exit_clip)
     obj = make.flat_target(keyed=False)
     ctx.scene.voodoo.target = obj
     assert bpy.ops.voodoo.track_clip() == {"FINISHED"}
