@@ -292,3 +292,22 @@ def test_the_readme_licences_name_every_bundled_wheel():
         name, version, *_ = parse_wheel_filename(Path(wheel).name)
         assert f"{name} {version}" in body.replace("`", ""), f"{name} {version} not in Licences"
     assert "commercial" in body  # Triangle's licence: said plainly
+
+
+def test_the_zips_ship_no_development_tools(extension_zips):
+    """Only the add-on and its engine: no tests, scripts, samples, devtools or build files."""
+    for zip_path in extension_zips.values():
+        with zipfile.ZipFile(zip_path) as z:
+            names = [n for n in z.namelist() if not n.startswith("wheels/")]
+        tops = {n.split("/")[0] for n in names}
+        assert tops <= {
+            "__init__.py",
+            "blender_manifest.toml",
+            "README.md",
+            "LICENSE",
+            "operators",
+            "voodoo_addon",
+        }, tops
+        assert not [n for n in names if "/devtools/" in n or "__pycache__" in n], zip_path
+        assert "voodoo_addon/tracking/tracker.py" in names
+        assert "operators/ops/apply_take.py" in names
