@@ -33,8 +33,8 @@ ITERATIONS = 5
 SMOOTH = 0.02
 #: Pull of the offsets towards none (the modal fit), relative likewise.
 RIDGE = 0.002
-#: How fast the hold on the offsets grows with the modal fit's confidence (see stiffness).
-STIFFNESS_POWER = 1.0
+#: How fast the hold on the offsets grows with the modal fit's confidence (see hold).
+HOLD_POWER = 1.0
 #: Stop when the offsets change by less than this (level-0 pixels RMS over the nodes).
 TOLERANCE = 0.05
 
@@ -57,14 +57,14 @@ def sample_gradients(grad_image: np.ndarray, positions: np.ndarray, n: int) -> n
     return out.reshape(n, 2, 3).transpose(0, 2, 1)
 
 
-def stiffness(confidence: float) -> float:
+def hold(confidence: float) -> float:
     """How firmly the offsets are held, given how well the modes alone fit.
 
     Where the modes explain the frame (their confidence is high), local freedom only fits
     noise; where they fall short (a crumple), the nodes get the freedom to follow.
     """
     c = min(max(confidence, 0.05), 0.95)
-    return (c / (1.0 - c)) ** STIFFNESS_POWER
+    return (c / (1.0 - c)) ** HOLD_POWER
 
 
 def graph_laplacian(n_nodes: int, triangles: np.ndarray) -> np.ndarray:
@@ -199,7 +199,7 @@ class LocalRefiner:
         a : (P,) float64
             The modal fit.
         confidence : float
-            Its confidence (how firmly the offsets are held, see :func:`stiffness`).
+            Its confidence (how firmly the offsets are held, see :func:`hold`).
         pictures : (FramePyramid, origin)
             The frame as the fit read it.
         offsets : (m, 2) float64
@@ -213,7 +213,7 @@ class LocalRefiner:
         """
         images, origin = pictures
         step, level = self.step_, self.level
-        hold = stiffness(confidence)
+        held = hold(confidence)
         org, box = step.bind(images[step.index], origin)
         grad_image = self.gradients(images[step.index])
         bare = self._vertices - self._centre  # the modal shape X - c + Phi a
@@ -235,7 +235,7 @@ class LocalRefiner:
             best = (u, ev)
             pos = level.positions(a, nodes) - org[:, None]
             grads = sample_gradients(grad_image, pos, len(level))
-            du = self.step(ev, grads, a, u, bare + u, hold)
+            du = self.step(ev, grads, a, u, bare + u, held)
             u = u + du
             if np.sqrt((du**2).sum(axis=1).mean()) < TOLERANCE:
                 nodes = self._nodes(a, u) * level.scale
@@ -248,10 +248,10 @@ class LocalRefiner:
         u, ev = best
         return u, self._quality(ev, a), ev
 
-    def step(self, ev: Evaluation, grads, a, offsets, shape, stiffness=1.0) -> np.ndarray:
+    def step(self, ev: Evaluation, grads, a, offsets, shape, held=1.0) -> np.ndarray:
         """One Gauss-Newton step of the offsets (m, 2), level-0 pixels, rest frame.
 
-        ``stiffness`` multiplies the regularisers. The step is cut so that no triangle
+        ``held`` multiplies the regularisers. The step is cut so that no triangle
         folds.
         """
         hess, grad = self.normal_equations(ev, grads)
@@ -264,7 +264,7 @@ class LocalRefiner:
         # Regularisers on the offsets, written for the frame-level node motion
         # dV = s R dU: |L (U + dU)|^2 and |U + dU|^2 become s^-2 terms.
         u_frame = (offsets @ rot.T).ravel() * s
-        reg = stiffness * scale * (SMOOTH * self.laplacian + RIDGE * np.eye(len(hess)))
+        reg = held * scale * (SMOOTH * self.laplacian + RIDGE * np.eye(len(hess)))
         lhs = hess + reg
         rhs = grad - reg @ u_frame
         try:
