@@ -76,16 +76,15 @@ import bmesh  # noqa: E402
 import cv2  # noqa: E402
 import hard_textures as paint  # noqa: E402  (scripts/ is on sys.path when run as a script)
 import numpy as np  # noqa: E402
-from bpy_extras import anim_utils  # noqa: E402
-from bpy_extras.object_utils import world_to_camera_view  # noqa: E402
-from make_sample import (  # noqa: E402
-    backdrop_texture,
+from blender_scene import (  # noqa: E402
     packed_image,
-    painted_foam_texture,
     rounded_rectangle,
     textured_grid,
     textured_material,
 )
+from bpy_extras import anim_utils  # noqa: E402
+from bpy_extras.object_utils import world_to_camera_view  # noqa: E402
+from foam_paint import backdrop_texture, painted_foam_texture  # noqa: E402
 from mathutils import Matrix, Vector  # noqa: E402
 
 WIDTH, HEIGHT = 640, 360
