@@ -19,7 +19,9 @@ from pathlib import Path
 
 import cv2
 import numpy as np
-import render_hard_clips as clips  # first: it pins the process to one core before bpy starts
+from hardclips import scenarios  # first: it pins the process to one core before bpy starts
+from hardclips.scene import new_scene
+from hardclips.truth import lattice_truth
 
 # isort: split
 import bpy
@@ -72,10 +74,10 @@ def dot_centroids(image, threshold=0.3):
 
 
 def check(clip, folder):
-    scene = clips.new_scene(clip, draft=False)
+    scene = new_scene(clip, draft=False)
     sheet = clip.build(np.random.default_rng(0), clip)
     scene.frame_end = max(FRAMES[clip.name]) + 1
-    lattice, visible = clips.lattice_truth(scene, sheet)
+    lattice, visible = lattice_truth(scene, sheet)
     settings = scene.render.image_settings
     settings.media_type, settings.file_format = "IMAGE", "PNG"
     settings.color_mode, settings.color_depth = "RGB", "16"
@@ -104,9 +106,9 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--only", nargs="+", choices=list(FRAMES), help="check these clips")
     args = parser.parse_args()
-    clips.add_sheet = dotted_sheet(clips.add_sheet)
+    scenarios.add_sheet = dotted_sheet(scenarios.add_sheet)  # what the builders call
     with tempfile.TemporaryDirectory(prefix="truth_dots_") as folder:
-        for clip in clips.CLIPS:
+        for clip in scenarios.CLIPS:
             if args.only is None or clip.name in args.only:
                 check(clip, Path(folder))
 

@@ -2,13 +2,13 @@
 
 Every function takes a seeded ``numpy.random.Generator`` and a size in texels and returns an
 sRGB image, (height, width, 3) float32 in [0, 1] with rows top-down (what
-``make_sample.packed_image`` takes). Sizes are in texels, so the styles keep their look at any
+``blender_scene.packed_image`` takes). Sizes are in texels, so the styles keep their look at any
 resolution only roughly; the clips use about 1024 texels across.
 """
 
 import cv2
 import numpy as np
-from make_sample import smooth_noise
+from foam_paint import smooth_noise
 
 
 def fractal_noise(rng, shape, cells=(3, 6, 12, 24, 48), falloff=0.6):

@@ -1,0 +1,27 @@
+"""The hard test clips of ``render_hard_clips.py``, one module per concern.
+
+``scene``
+    Frame size, seeds, the ``Clip`` description and ``new_scene`` (render settings, camera,
+    world, backdrop).
+``materials``
+    Lamps and the sheet's materials.
+``sheet``
+    The painted sheet (a grid mesh with a back and rim) and its bend deformers.
+``scenarios``
+    One ``build_*`` function per clip and ``CLIPS``, the list of clips.
+``truth``
+    The ground-truth lattice, its visibility and the frame-0 region outline.
+``video``
+    Rendering, the camera post (exposure, white balance, sensor noise) and H.264 encoding.
+``make``
+    One clip's files, and the folder's README.
+
+Importing the package pins the process to one CPU core: Cycles' thread pool sizes itself from
+the CPUs the process may use, so this has to happen before bpy starts it (import ``hardclips``
+before bpy), or a second worker spins on the other core while the first renders. ``scripts/``
+must be on ``sys.path`` (it is when a script there runs).
+"""
+
+import os
+
+os.sched_setaffinity(0, {max(os.sched_getaffinity(0))})
