@@ -10,14 +10,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..checks import finite
+from ..checks import finite, whole
 from ..errors import VoodooError
 from ..media.images import blur
 from .crossing import first_crossing
 from .fem import assemble, quadrature_points, rms_radius, select_modes, similarity_fields
 from .interpolants import GaussianInterpolant
 from .labels import label_modes
-from .mesh import rasterize, triangulate
+from .mesh import max_area_setting, min_angle_setting, rasterize, triangulate
 from .model import ActiveBlob
 from .outline import simplify_contour, validate_contour
 
@@ -30,6 +30,10 @@ MAX_OUTLINE_CORNERS = 200
 TOLERANCE_STEP = 2**0.5
 #: ... up to this fraction of the outline's size (beyond it the shape would be lost).
 MAX_TOLERANCE_FRACTION = 0.05
+#: Largest template blur, pixels (the kernel grows with it).
+MAX_BLUR = 20.0
+#: Highest polynomial tier of the mode basis (degree d brings 2 (d + 1) fields).
+MAX_POLY_DEGREE = 8
 
 
 @dataclass(frozen=True)
@@ -71,6 +75,24 @@ class BlobOptions:
     separate_scale: bool = True
     poly_degree: int = 3
 
+    def __post_init__(self):
+        """Refuse NaN, infinity and out-of-range settings by name (a VoodooError)."""
+        numbers = {
+            "n_modes": whole(self.n_modes, "the number of modes", 0),
+            "min_angle": min_angle_setting(self.min_angle),
+            "max_area": max_area_setting(self.max_area),
+            "simplify_tolerance": finite(self.simplify_tolerance, "the outline tolerance", 0.0),
+            "blur_sigma": finite(self.blur_sigma, "the template blur", 0.0, MAX_BLUR),
+            "poisson": finite(self.poisson, "the Poisson ratio", -1.0, 0.5, True, True),
+            "width_factor": finite(
+                self.width_factor, "the interpolant width factor", 0.0, low_open=True
+            ),
+            "poly_degree": whole(self.poly_degree, "the polynomial degree", 0, MAX_POLY_DEGREE),
+        }
+        for name, value in numbers.items():
+            object.__setattr__(self, name, value)
+        object.__setattr__(self, "separate_scale", bool(self.separate_scale))
+
 
 def _texture_crop(frame: np.ndarray, contour: np.ndarray, sigma: float):
     """Blurred crop around the contour, origin aligned to :data:`ALIGN`."""
@@ -98,7 +120,7 @@ def _simplified(pts: np.ndarray, opt: BlobOptions) -> tuple[np.ndarray, list[str
         A validated outline.
     warnings : list of str
     """
-    tol = finite(opt.simplify_tolerance, "the outline tolerance", 0.0)
+    tol = opt.simplify_tolerance
     size = float(np.ptp(pts, axis=0).max())
     first = None
     while True:
@@ -165,9 +187,7 @@ def build_blob(frame: np.ndarray, contour, options: BlobOptions | None = None) -
     sim = similarity_fields(mesh.vertices, centre, length)
     constraints = sim if opt.separate_scale else sim[:, :3]
     available = 2 * len(mesh.vertices) - constraints.shape[1]
-    k = int(opt.n_modes)
-    if k < 0:
-        raise VoodooError("The number of modes cannot be negative.")
+    k = opt.n_modes
     if k > available:
         warnings.append(f"Only {available} modes exist for this mesh; using all of them.")
         k = available

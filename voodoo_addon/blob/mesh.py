@@ -79,6 +79,18 @@ def _triangle_number(value: float) -> str:
     return np.format_float_positional(value, precision=9, unique=True, trim="-")
 
 
+def min_angle_setting(value) -> float:
+    """The smallest triangle angle as Triangle can meet it: 1 to 33 degrees (VoodooError)."""
+    return finite(value, "the minimum triangle angle", 1.0, 33.0)
+
+
+def max_area_setting(value) -> float | None:
+    """A largest triangle area: None (automatic) or a positive finite number (VoodooError)."""
+    if value is None:
+        return None
+    return finite(value, "the maximum triangle area", 0.0, low_open=True)
+
+
 def triangulate(
     contour: np.ndarray, min_angle: float = 25.0, max_area: float | None = None
 ) -> TriMesh:
@@ -101,11 +113,11 @@ def triangulate(
     -------
     TriMesh
     """
-    min_angle = finite(min_angle, "the minimum triangle angle", 1.0, 33.0)
+    min_angle = min_angle_setting(min_angle)
     area = abs(signed_area(contour))
+    max_area = max_area_setting(max_area)
     if max_area is None:
         max_area = area / DEFAULT_TRIANGLES
-    max_area = finite(max_area, "the maximum triangle area", 0.0, low_open=True)
     if area / max_area > MAX_TRIANGLES:
         raise VoodooError(
             f"A maximum triangle area of {max_area:g} px would need over {MAX_TRIANGLES} "
