@@ -11,6 +11,7 @@ import sys
 
 import numpy as np
 
+from .checks import whole
 from .errors import VoodooError
 
 
@@ -42,9 +43,11 @@ def cmd_blob(args) -> int:
     from .blob.model import save_blob
     from .blob.outline import load_contour_json
     from .blob.preview import modes_picture
-    from .media.images import write_image
+    from .media.images import check_picture_path, write_image
     from .media.sources import read_image
 
+    if args.preview:
+        check_picture_path(args.preview)  # before any work, and before the blob is written
     frame = read_image(args.frame)
     blob = build_blob(frame, load_contour_json(args.contour), _blob_options(args))
     save_blob(args.out, blob)
@@ -64,9 +67,11 @@ def cmd_track(args) -> int:
     from .blob.model import load_blob
     from .blob.outline import load_contour_json
     from .media.sources import open_source
-    from .takes.take import ProgressBar, save_take, track_source
+    from .takes.take import ProgressBar, missing_frames, save_take, track_source
     from .tracking import Tracker
 
+    if args.frames is not None:
+        whole(args.frames, "the number of frames (--frames)", 1)
     with open_source(args.video) as src:
         if args.blob:
             blob = load_blob(args.blob)
@@ -79,7 +84,10 @@ def cmd_track(args) -> int:
         long_clip = src.count is None or src.count > 30
         bar = ProgressBar(src.count) if long_clip and not args.quiet else None
         take = track_source(blob, src, tracker, progress=bar, limit=args.frames)
+        short = missing_frames(src, take, args.frames, name=str(args.video))
     save_take(args.out, take)
+    if short:
+        print(f"warning: {short}", file=sys.stderr)
     n_lost = int(take.lost.sum())
     msg = f"track: {len(take)} frames, mean confidence {take.confidence.mean():.2f}"
     if n_lost:
@@ -128,9 +136,11 @@ def cmd_segment(args) -> int:
     from .blob.outline import save_contour_json
     from .blob.preview import draw_outline
     from .blob.segment import segment_contour
-    from .media.images import to_uint8_bgr, write_image
+    from .media.images import check_picture_path, to_uint8_bgr, write_image
     from .media.sources import read_image
 
+    if args.preview:
+        check_picture_path(args.preview)
     frame = read_image(args.frame)
     contour = segment_contour(frame, point=args.point, box=args.box)
     save_contour_json(args.out, contour)
@@ -275,6 +285,9 @@ def main(argv=None) -> int:
             return args.func(args)
     except VoodooError as exc:
         print(f"error: {exc}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print("error: out of memory; use a smaller picture, outline or take.", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)

@@ -213,12 +213,38 @@ CORRUPTIONS = {
     ),
     "modes-wrong-shape": lambda b: _tampered(b, modes=_arrays(b)["modes"][:-2]),
     "labels-wrong-length": lambda b: _tampered(b, labels=_arrays(b)["labels"][:-1]),
+    "float-triangles": lambda b: _tampered(b, triangles=_arrays(b)["triangles"] + 0.5),
+    "labels-as-numbers": lambda b: _tampered(b, labels=np.arange(b.n_modes)),
+    "length-as-a-list": lambda b: _tampered(b, length=np.array([1.0, 2.0])),
+    "length-zero": lambda b: _tampered(b, length=np.array(0.0)),
+    "pixel-triangle-out-of-range": lambda b: _tampered(
+        b, pixel_triangle=_arrays(b)["pixel_triangle"] + len(b.triangles)
+    ),
+    "texture-moved-off-the-pixels": lambda b: _tampered(
+        b, texture_origin=_arrays(b)["texture_origin"] + 5_000
+    ),
+    "mass-of-other-nodes": lambda b: _tampered(b, mass=np.eye(2 * b.n_nodes + 2)),
+    "nan-scalar": lambda b: _tampered(b, width=np.array(np.nan)),
+    "huge-declared-size": lambda b: _declared_huge(blob_to_bytes(b)),
 }
+
+
+def _declared_huge(data: bytes) -> bytes:
+    """The archive with one member claiming to unpack to 100 GB (a damaged size field)."""
+    out = io.BytesIO()
+    with zipfile.ZipFile(io.BytesIO(data)) as src, zipfile.ZipFile(out, "w") as dst:
+        for info in src.infolist():
+            dst.writestr(info, src.read(info))
+    raw = bytearray(out.getvalue())
+    # Patch the uncompressed size of the first central-directory entry.
+    at = raw.find(b"PK\x01\x02")
+    raw[at + 24 : at + 28] = (0xFFFFFFF0).to_bytes(4, "little")
+    return bytes(raw)
 
 
 @pytest.mark.parametrize("make", CORRUPTIONS.values(), ids=CORRUPTIONS.keys())
 def test_corrupt_data_raises(blob, make):
-    with pytest.raises(VoodooError):
+    with pytest.raises(VoodooError, match="not a Voodoo blob|corrupt|incomplete|version"):
         blob_from_bytes(make(blob))
 
 

@@ -268,6 +268,144 @@ def test_segment_writes_a_contour(repo_root, tmp_path):
     assert_clean_failure(proc)
 
 
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["--box", "nan", 10, 200, 200],
+        ["--point", 160, "inf"],
+        ["--point", 160, 120, "--preview", "p.xyz"],
+    ],
+    ids=["box-nan", "point-inf", "preview-extension"],
+)
+def test_segment_bad_request_exits_2(repo_root, files, tmp_path, args):
+    d, _ = files
+    out = tmp_path / "c.json"
+    args = [tmp_path / a if str(a).endswith(".xyz") else a for a in args]
+    proc = run_cli(repo_root, "segment", d / "frame.png", *args, "--out", out)
+    assert_clean_failure(proc)
+    assert not out.exists()
+
+
+# ----------------------------------------------------- user errors: one line, exit code 2
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["nosuch"],
+        ["translate", "--size", 0, 0],
+        ["translate", "--size", -5, 100],
+        ["translate", "--frames", 0],
+        ["translate", "--frames", -4],
+    ],
+    ids=["unknown-scenario", "size-zero", "size-negative", "frames-zero", "frames-negative"],
+)
+def test_synth_bad_request_exits_2_and_writes_nothing(repo_root, tmp_path, args):
+    out = tmp_path / "s.avi"
+    proc = run_cli(repo_root, "synth", *args, "--out", out, "--contour", tmp_path / "c.json")
+    assert_clean_failure(proc)
+    assert not out.exists() and not (tmp_path / "c.json").exists()
+
+
+def test_unknown_preview_extension_exits_2_before_the_blob_is_written(repo_root, files, tmp_path):
+    d, _ = files
+    out = tmp_path / "b.npz"
+    proc = run_cli(
+        repo_root,
+        "blob",
+        d / "frame.png",
+        "--contour",
+        d / "contour.json",
+        "--out",
+        out,
+        "--preview",
+        tmp_path / "p.xyz",
+    )
+    assert_clean_failure(proc)
+    assert ".xyz" in proc.stderr
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("frames", [0, -2])
+def test_track_frames_below_one_exits_2(repo_root, files, tmp_path, frames):
+    d, _ = files
+    out = tmp_path / "t.npz"
+    proc = run_cli(
+        repo_root, "track", d / "clip.avi", "--contour", d / "contour.json", "--out", out,
+        "--frames", frames,
+    )  # fmt: skip
+    assert_clean_failure(proc)
+    assert "--frames" in proc.stderr
+    assert not out.exists()
+
+
+def test_truncated_video_is_tracked_and_the_shortfall_said(repo_root, files, tmp_path):
+    d, _ = files
+    clip = tmp_path / "cut.avi"
+    data = (d / "clip.avi").read_bytes()
+    clip.write_bytes(data[: len(data) // 2])
+    out = tmp_path / "t.npz"
+    proc = run_cli(
+        repo_root, "track", clip, "--contour", d / "contour.json", "--out", out, "--quiet"
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert "Traceback" not in proc.stderr
+    with np.load(out, allow_pickle=False) as npz:
+        n = len(npz["params"])
+    assert 0 < n < N_FRAMES
+    assert f"{N_FRAMES} frames expected, {n} read" in proc.stderr
+    assert f"track: {n} frames" in proc.stdout
+
+
+@pytest.fixture(scope="module")
+def damaged(files, tmp_path_factory):
+    """Good and damaged blob and take files."""
+    from voodoo_addon.blob.build import build_blob
+    from voodoo_addon.blob.model import save_blob
+    from voodoo_addon.blob.outline import load_contour_json
+    from voodoo_addon.media.sources import ArraySource, read_image
+    from voodoo_addon.takes.take import save_take, track_source
+
+    d, _ = files
+    out = tmp_path_factory.mktemp("damaged")
+    frame = read_image(d / "frame.png")
+    blob = build_blob(frame, load_contour_json(d / "contour.json"))
+    save_blob(out / "blob.npz", blob)
+    save_take(out / "take.npz", track_source(blob, ArraySource([frame] * 3)))
+    rng = np.random.default_rng(0)
+    for kind in ("blob", "take"):
+        good = (out / f"{kind}.npz").read_bytes()
+        (out / f"{kind}-truncated.npz").write_bytes(good[: len(good) // 2])
+        (out / f"{kind}-random.npz").write_bytes(rng.bytes(4000))
+        np.savez(out / f"{kind}-wrong-keys.npz", a=np.arange(3))
+        with np.load(out / f"{kind}.npz", allow_pickle=False) as npz:
+            arrays = {k: npz[k] for k in npz.files}
+        key = "modes" if kind == "blob" else "params"
+        arrays[key] = np.full_like(arrays[key], np.nan)
+        np.savez(out / f"{kind}-nan.npz", **arrays)
+    return out
+
+
+@pytest.mark.parametrize("damage", ["truncated", "random", "wrong-keys", "nan"])
+def test_damaged_blob_exits_2(repo_root, files, damaged, tmp_path, damage):
+    d, _ = files
+    blob = damaged / f"blob-{damage}.npz"
+    out = tmp_path / "t.npz"
+    proc = run_cli(repo_root, "track", d / "clip.avi", "--blob", blob, "--out", out)
+    assert_clean_failure(proc)
+    assert str(blob) in proc.stderr
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("damage", ["truncated", "random", "wrong-keys", "nan"])
+def test_damaged_take_exits_2(repo_root, files, damaged, damage):
+    d, _ = files
+    take = damaged / f"take-{damage}.npz"
+    proc = run_cli(repo_root, "check", d / "clip.avi", take)
+    assert_clean_failure(proc)
+    assert str(take) in proc.stderr
+
+
 @pytest.mark.slow
 def test_bench_prints_one_json_line(repo_root):
     # `python -m voodoo_addon bench --json` prints one JSON line of the benchmark.

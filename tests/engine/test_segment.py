@@ -81,6 +81,24 @@ def test_bad_requests_raise(scene_frame, kwargs):
         segment_mask(frame, **kwargs)
 
 
+@pytest.mark.parametrize(
+    "kwargs",
+    [
+        {"box": (10, np.nan, 200, 200)},
+        {"box": (10, 10, np.inf, 200)},
+        {"point": (np.nan, 100)},
+        {"point": (100, -np.inf)},
+        {"box": (10, 10, 200)},
+        {"point": ("a", "b")},
+    ],
+    ids=["box-nan", "box-inf", "point-nan", "point-inf", "box-three-numbers", "point-text"],
+)
+def test_unusable_numbers_in_the_request_give_a_clear_error(scene_frame, kwargs):
+    frame, _ = scene_frame
+    with pytest.raises(VoodooError, match=r"(?i)(point|box).*(NaN|infinite|numbers)"):
+        segment_contour(frame, **kwargs)
+
+
 def test_segment_contour_is_a_valid_outline(scene_frame):
     frame, truth = scene_frame
     h, w = truth.shape

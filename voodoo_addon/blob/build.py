@@ -10,17 +10,30 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..checks import finite, whole
 from ..errors import VoodooError
 from ..media.images import blur
+from .crossing import first_crossing
 from .fem import assemble, quadrature_points, rms_radius, select_modes, similarity_fields
 from .interpolants import GaussianInterpolant
 from .labels import label_modes
-from .mesh import rasterize, triangulate
+from .mesh import max_area_setting, min_angle_setting, rasterize, triangulate
 from .model import ActiveBlob
 from .outline import simplify_contour, validate_contour
 
 #: Template crops start on multiples of this, so pyramid levels stay pixel-aligned.
 ALIGN = 16
+#: Outlines are simplified to at most this many corners: every corner is a mesh node, and a
+#: traced outline of thousands of points would make a mesh too fine to track.
+MAX_OUTLINE_CORNERS = 200
+#: When it takes more, the tolerance grows by this factor until the outline fits ...
+TOLERANCE_STEP = 2**0.5
+#: ... up to this fraction of the outline's size (beyond it the shape would be lost).
+MAX_TOLERANCE_FRACTION = 0.05
+#: Largest template blur, pixels (the kernel grows with it).
+MAX_BLUR = 20.0
+#: Highest polynomial tier of the mode basis (degree d brings 2 (d + 1) fields).
+MAX_POLY_DEGREE = 8
 
 
 @dataclass(frozen=True)
@@ -62,6 +75,24 @@ class BlobOptions:
     separate_scale: bool = True
     poly_degree: int = 3
 
+    def __post_init__(self):
+        """Refuse NaN, infinity and out-of-range settings by name (a VoodooError)."""
+        numbers = {
+            "n_modes": whole(self.n_modes, "the number of modes", 0),
+            "min_angle": min_angle_setting(self.min_angle),
+            "max_area": max_area_setting(self.max_area),
+            "simplify_tolerance": finite(self.simplify_tolerance, "the outline tolerance", 0.0),
+            "blur_sigma": finite(self.blur_sigma, "the template blur", 0.0, MAX_BLUR),
+            "poisson": finite(self.poisson, "the Poisson ratio", -1.0, 0.5, True, True),
+            "width_factor": finite(
+                self.width_factor, "the interpolant width factor", 0.0, low_open=True
+            ),
+            "poly_degree": whole(self.poly_degree, "the polynomial degree", 0, MAX_POLY_DEGREE),
+        }
+        for name, value in numbers.items():
+            object.__setattr__(self, name, value)
+        object.__setattr__(self, "separate_scale", bool(self.separate_scale))
+
 
 def _texture_crop(frame: np.ndarray, contour: np.ndarray, sigma: float):
     """Blurred crop around the contour, origin aligned to :data:`ALIGN`."""
@@ -74,6 +105,44 @@ def _texture_crop(frame: np.ndarray, contour: np.ndarray, sigma: float):
     y1 = int(min(h, np.ceil(hi[1] + margin) + 1))
     crop = blur(np.ascontiguousarray(frame[y0:y1, x0:x1], dtype=np.float32), sigma)
     return crop, np.array([x0, y0], dtype=np.int64)
+
+
+def _simplified(pts: np.ndarray, opt: BlobOptions) -> tuple[np.ndarray, list[str]]:
+    """The outline within the tolerance band, with at most :data:`MAX_OUTLINE_CORNERS` corners.
+
+    A dense outline (a traced mask, a video's contour) can keep thousands of corners within
+    the band; the band then widens step by step until the outline fits, and a warning says
+    so. A band that makes the outline cross itself is skipped as well.
+
+    Returns
+    -------
+    pts : (k, 2) float64
+        A validated outline.
+    warnings : list of str
+    """
+    tol = opt.simplify_tolerance
+    size = float(np.ptp(pts, axis=0).max())
+    first = None
+    while True:
+        out = simplify_contour(pts, tol)
+        first = len(out) if first is None else first
+        crossed = len(out) <= MAX_OUTLINE_CORNERS and first_crossing(out) is not None
+        if len(out) <= MAX_OUTLINE_CORNERS and not crossed:
+            break
+        if tol * TOLERANCE_STEP > MAX_TOLERANCE_FRACTION * size:
+            problem = "crosses itself" if crossed else f"still needs {len(out)} corners"
+            raise VoodooError(
+                f"The outline has too much fine detail: simplified within {tol:.1f} px it "
+                f"{problem}; draw a smoother outline (at most {MAX_OUTLINE_CORNERS} corners)."
+            )
+        tol = max(tol, 0.25) * TOLERANCE_STEP
+    out = validate_contour(out, frame_size=None)
+    if tol == opt.simplify_tolerance:
+        return out, []
+    return out, [
+        f"The outline was simplified to {len(out)} corners within {tol:.1f} px (it needed "
+        f"{first} within {opt.simplify_tolerance:g} px); finer detail is not followed."
+    ]
 
 
 def build_blob(frame: np.ndarray, contour, options: BlobOptions | None = None) -> ActiveBlob:
@@ -102,11 +171,9 @@ def build_blob(frame: np.ndarray, contour, options: BlobOptions | None = None) -
     if frame.ndim != 3 or frame.shape[2] != 3 or frame.dtype != np.float32:
         raise VoodooError("The frame must be a float32 RGB picture (H, W, 3).")
     h, w = frame.shape[:2]
-    pts = validate_contour(contour, frame_size=(w, h))
-    pts = validate_contour(simplify_contour(pts, opt.simplify_tolerance), frame_size=(w, h))
+    pts, warnings = _simplified(validate_contour(contour, frame_size=(w, h)), opt)
     mesh = triangulate(pts, min_angle=opt.min_angle, max_area=opt.max_area)
     pixels = rasterize(mesh)
-    warnings = []
     if len(mesh.vertices) > 400:
         warnings.append(
             f"The mesh has {len(mesh.vertices)} nodes; building and tracking will be slow. "
@@ -120,9 +187,7 @@ def build_blob(frame: np.ndarray, contour, options: BlobOptions | None = None) -
     sim = similarity_fields(mesh.vertices, centre, length)
     constraints = sim if opt.separate_scale else sim[:, :3]
     available = 2 * len(mesh.vertices) - constraints.shape[1]
-    k = int(opt.n_modes)
-    if k < 0:
-        raise VoodooError("The number of modes cannot be negative.")
+    k = opt.n_modes
     if k > available:
         warnings.append(f"Only {available} modes exist for this mesh; using all of them.")
         k = available

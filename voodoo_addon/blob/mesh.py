@@ -11,12 +11,15 @@ from dataclasses import dataclass
 import numpy as np
 import triangle as tr
 
+from ..checks import finite
 from ..errors import VoodooError
 from .outline import signed_area
 
 #: Default number of triangles the refinement aims for: with the boundary vertices this gives
 #: 60-120 nodes for any blob size (the paper used 72 nodes for 8.5k pixels, 61 for 17k).
 DEFAULT_TRIANGLES = 80
+#: More triangles than this are refused (a mistyped area would take minutes and gigabytes).
+MAX_TRIANGLES = 20000
 
 
 @dataclass(frozen=True)
@@ -68,6 +71,26 @@ def triangle_angles(vertices: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     return out
 
 
+def _triangle_number(value: float) -> str:
+    """A positive number as Triangle's switches read it: digits and one dot, no exponent.
+
+    Triangle stops reading a number at the first other character, so ``1e+06`` would be 1.
+    """
+    return np.format_float_positional(value, precision=9, unique=True, trim="-")
+
+
+def min_angle_setting(value) -> float:
+    """The smallest triangle angle as Triangle can meet it: 1 to 33 degrees (VoodooError)."""
+    return finite(value, "the minimum triangle angle", 1.0, 33.0)
+
+
+def max_area_setting(value) -> float | None:
+    """A largest triangle area: None (automatic) or a positive finite number (VoodooError)."""
+    if value is None:
+        return None
+    return finite(value, "the maximum triangle area", 0.0, low_open=True)
+
+
 def triangulate(
     contour: np.ndarray, min_angle: float = 25.0, max_area: float | None = None
 ) -> TriMesh:
@@ -79,34 +102,34 @@ def triangulate(
         A validated contour (see :func:`voodoo_addon.contour.validate_contour`).
     min_angle : float
         Smallest triangle angle in degrees (Ruppert refinement; Triangle's ``q``). Values
-        above about 33 degrees may not terminate and are refused.
+        above about 33 degrees may not terminate; below 1 degree is meaningless; both are
+        refused.
     max_area : float, optional
         Largest triangle area in square pixels (Triangle's ``a``). By default the polygon's
-        area over :data:`DEFAULT_TRIANGLES`.
+        area over :data:`DEFAULT_TRIANGLES`. Must be positive and finite; anything larger
+        than the polygon gives its coarsest quality mesh.
 
     Returns
     -------
     TriMesh
     """
-    if not 0.0 < min_angle <= 33.0:
-        raise VoodooError(
-            f"Minimum angle {min_angle:g} is out of range; choose between 1 and 33 degrees."
-        )
+    min_angle = min_angle_setting(min_angle)
     area = abs(signed_area(contour))
+    max_area = max_area_setting(max_area)
     if max_area is None:
         max_area = area / DEFAULT_TRIANGLES
-    if not max_area > 0:
-        raise VoodooError("The maximum triangle area must be positive.")
-    if area / max_area > 20000:
+    if area / max_area > MAX_TRIANGLES:
         raise VoodooError(
-            f"A maximum triangle area of {max_area:g} px would need over 20000 triangles for "
-            f"this {area:.0f} px region; choose a larger area."
+            f"A maximum triangle area of {max_area:g} px would need over {MAX_TRIANGLES} "
+            f"triangles for this {area:.0f} px region; choose a larger area."
         )
+    # No triangle of the polygon can be larger than the polygon: a larger bound changes
+    # nothing, and this keeps the number Triangle reads short.
+    max_area = min(max_area, area)
     k = len(contour)
     segments = np.stack([np.arange(k), (np.arange(k) + 1) % k], axis=1)
-    result = tr.triangulate(
-        {"vertices": contour, "segments": segments}, f"pq{min_angle:.6g}a{max_area:.6g}Q"
-    )
+    switches = f"pq{_triangle_number(min_angle)}a{_triangle_number(max_area)}Q"
+    result = tr.triangulate({"vertices": contour, "segments": segments}, switches)
     verts = np.asarray(result["vertices"], dtype=np.float64)
     tris = np.asarray(result["triangles"], dtype=np.int32)
     markers = np.asarray(result.get("vertex_markers", np.zeros((len(verts), 1)))).ravel()

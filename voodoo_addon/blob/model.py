@@ -8,12 +8,12 @@ as a pickle-free ``.npz`` with a format version. :mod:`.build` makes one from an
 from __future__ import annotations
 
 import io
-import zipfile
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
 
+from ..archive import check_arrays, header, load_npz, require
 from ..errors import VoodooError, read_file, write_file
 from .interpolants import GaussianInterpolant
 from .mesh import PixelSet, TriMesh
@@ -134,13 +134,37 @@ class ActiveBlob:
 
 # ---------------------------------------------------------------------------- persistence
 
-_ARRAY_FIELDS = [f.name for f in fields(ActiveBlob) if f.name != "warnings"]
+#: Every array of a blob file: kind and shape (names are sizes that must agree).
+_SPEC = {
+    "contour": ("float", ("q", 2)),
+    "vertices": ("float", ("m", 2)),
+    "triangles": ("int", ("t", 3)),
+    "boundary": ("bool", ("m",)),
+    "centre": ("float", (2,)),
+    "length": ("float", ()),
+    "width": ("float", ()),
+    "poisson": ("float", ()),
+    "mass": ("float", ("2m", "2m")),
+    "stiffness": ("float", ("2m", "2m")),
+    "constrained": ("float", ("2m", "c")),
+    "modes": ("float", ("2m", "k")),
+    "stiffness_penalty": ("float", ("k",)),
+    "labels": ("str", ("k",)),
+    "label_match": ("float", ("k",)),
+    "texture": ("float", ("h", "w", 3)),
+    "texture_origin": ("int", (2,)),
+    "frame_size": ("int", (2,)),
+    "blur_sigma": ("float", ()),
+    "pixel_coords": ("float", ("n", 2)),
+    "pixel_triangle": ("int", ("n",)),
+    "pixel_weights": ("float", ("n", 3)),
+}
 
 
 def blob_to_bytes(blob: ActiveBlob) -> bytes:
     """Serialise a blob to ``.npz`` bytes (no pickles), e.g. to store inside a .blend."""
     buf = io.BytesIO()
-    arrays = {name: np.asarray(getattr(blob, name)) for name in _ARRAY_FIELDS}
+    arrays = {name: np.asarray(getattr(blob, name)) for name in _SPEC}
     np.savez_compressed(
         buf,
         format_kind=np.array(FORMAT_KIND),
@@ -156,62 +180,37 @@ def blob_from_bytes(data: bytes, source: str = "the blob data") -> ActiveBlob:
     Raises
     ------
     VoodooError
-        If the bytes are not a blob file of a version this code reads.
+        If the bytes are not a blob file of a version this code reads, or its arrays are
+        damaged (missing, of the wrong kind or shape, not finite, not fitting together).
     """
-    try:
-        loaded = np.load(io.BytesIO(data), allow_pickle=False)
-        if not isinstance(loaded, np.lib.npyio.NpzFile):
-            raise ValueError("a single array, not an archive")
-        with loaded as npz:
-            arrays = {k: npz[k] for k in npz.files}
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile, KeyError) as exc:
-        raise VoodooError(f"{source} is not a Voodoo blob file ({exc}).") from None
-    if str(arrays.get("format_kind", "")) != FORMAT_KIND:
+    arrays = load_npz(data, source, "Voodoo blob")
+    is_blob, version = header(arrays, FORMAT_KIND)
+    if not is_blob:
         raise VoodooError(f"{source} is not a Voodoo blob file (no blob header).")
-    try:
-        version = int(arrays["format_version"]) if "format_version" in arrays else -1
-    except (TypeError, ValueError):
-        version = -1
     if version != FORMAT_VERSION:
         raise VoodooError(
             f"{source} has blob format version {version}; this add-on reads version "
             f"{FORMAT_VERSION}. Rebuild the blob."
         )
-    missing = [k for k in _ARRAY_FIELDS if k not in arrays]
-    if missing:
-        raise VoodooError(f"{source} is incomplete (missing {', '.join(missing)}).")
-    kw = {}
-    for name in _ARRAY_FIELDS:
-        a = arrays[name]
-        if a.dtype.kind == "f" and not np.isfinite(a).all():
-            raise VoodooError(f"{source} is corrupt ({name} has NaN or infinite values).")
-        kw[name] = a.item() if a.ndim == 0 else a
+    size = check_arrays(arrays, _SPEC, source)
+    kw = {name: a.item() if a.ndim == 0 else a for name, a in arrays.items() if name in _SPEC}
     blob = ActiveBlob(**kw)
-    _check_consistent(blob, source)
+    _check_consistent(blob, size, source)
     return blob
 
 
-def _check_consistent(blob: ActiveBlob, source: str) -> None:
-    m = len(blob.vertices)
-    k = blob.modes.shape[1] if blob.modes.ndim == 2 else -1
-    ok = (
-        blob.vertices.ndim == 2
-        and blob.vertices.shape[1] == 2
-        and blob.triangles.ndim == 2
-        and blob.triangles.shape[1] == 3
-        and blob.triangles.min(initial=0) >= 0
-        and blob.triangles.max(initial=0) < m
-        and blob.mass.shape == (2 * m, 2 * m)
-        and blob.stiffness.shape == (2 * m, 2 * m)
-        and blob.modes.shape[0] == 2 * m
-        and len(blob.labels) == k
-        and len(blob.stiffness_penalty) == k
-        and blob.texture.ndim == 3
-        and blob.pixel_coords.shape == (len(blob.pixel_triangle), 2)
-        and blob.pixel_weights.shape == (len(blob.pixel_triangle), 3)
-    )
-    if not ok:
-        raise VoodooError(f"{source} is corrupt (its arrays do not fit together).")
+def _check_consistent(blob: ActiveBlob, size: dict, source: str) -> None:
+    m, t = size["m"], size["t"]
+    require(size["2m"] == 2 * m, source, "the FE matrices do not match the nodes")
+    require(m >= 3 and t >= 1 and size["n"] >= 1, source, "the mesh is empty")
+    tri, pix = blob.triangles, blob.pixel_triangle
+    require(tri.min() >= 0 and tri.max() < m, source, "triangle corners out of range")
+    require(pix.min() >= 0 and pix.max() < t, source, "pixel triangles out of range")
+    require(blob.length > 0 and blob.width > 0 and blob.blur_sigma >= 0, source, "bad sizes")
+    require((blob.frame_size > 0).all(), source, "bad frame size")
+    local = np.floor(blob.pixel_coords - blob.texture_origin)
+    inside = (local >= 0).all() and (local < [size["w"], size["h"]]).all()
+    require(inside, source, "template pixels outside the texture")
 
 
 def save_blob(path, blob: ActiveBlob) -> None:

@@ -9,12 +9,14 @@ the (x, y) algebra below. Everything that builds meshes from user input goes thr
 
 from __future__ import annotations
 
+import heapq
 import json
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import VoodooError
+from .crossing import first_crossing
 
 #: Polygons smaller than this many square pixels cannot carry a texture worth tracking.
 MIN_AREA_PX = 50.0
@@ -35,58 +37,6 @@ def signed_area(points: np.ndarray) -> float:
     """
     x, y = points[:, 0], points[:, 1]
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
-
-
-def _segments_intersect(points: np.ndarray) -> tuple[int, int] | None:
-    """First pair of non-adjacent edges of a closed polygon that touch or cross.
-
-    Vectorised O(n^2) test (n is at most a few hundred after simplification).
-
-    Returns
-    -------
-    (i, j) or None
-        Edge i runs from point i to point i+1 (mod n).
-    """
-    n = len(points)
-    p = points
-    q = np.roll(points, -1, axis=0)
-    d = q - p  # (n, 2) edge vectors
-
-    def cross(a, b):
-        return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
-
-    # Orientation of every edge j's endpoints relative to every edge i: (n, n)
-    r_pj = p[None, :, :] - p[:, None, :]
-    r_qj = q[None, :, :] - p[:, None, :]
-    o1 = cross(d[:, None, :], r_pj)
-    o2 = cross(d[:, None, :], r_qj)
-    r_pi = p[:, None, :] - p[None, :, :]
-    r_qi = q[:, None, :] - p[None, :, :]
-    o3 = cross(d[None, :, :], r_pi)
-    o4 = cross(d[None, :, :], r_qi)
-    scale = max(float(np.ptp(points, axis=0).max()), 1.0)
-    eps = 1e-9 * scale * scale
-    crossing = (o1 * o2 <= eps) & (o3 * o4 <= eps)
-    # Collinear overlapping edges pass the test above with all four products 0; keep them
-    # only when their projections actually overlap.
-    collinear = (np.abs(o1) <= eps) & (np.abs(o2) <= eps)
-    if collinear.any():
-        t_p = np.einsum("ijk,ik->ij", r_pj, d)
-        t_q = np.einsum("ijk,ik->ij", r_qj, d)
-        len2 = np.einsum("ik,ik->i", d, d)[:, None]
-        overlap = (np.maximum(t_p, t_q) >= 0) & (np.minimum(t_p, t_q) <= len2)
-        crossing &= ~collinear | overlap
-    idx = np.arange(n)
-    adjacent = (
-        (idx[:, None] == idx[None, :])
-        | ((idx[:, None] + 1) % n == idx[None, :])
-        | ((idx[None, :] + 1) % n == idx[:, None])
-    )
-    crossing &= ~adjacent
-    hits = np.argwhere(np.triu(crossing))
-    if len(hits):
-        return int(hits[0, 0]), int(hits[0, 1])
-    return None
 
 
 def validate_contour(
@@ -147,12 +97,13 @@ def validate_contour(
                 f"Contour point ({x:.1f}, {y:.1f}) lies outside the {w}x{h} frame; keep the "
                 "outline inside the picture."
             )
-    hit = _segments_intersect(pts)
+    hit = first_crossing(pts)
     if hit is not None:
-        i, j = hit
+        (i, j), (x, y) = hit.edges, hit.point
         raise VoodooError(
-            f"The contour crosses itself (edge {i} meets edge {j}); redraw it as a simple "
-            "loop that does not cross over."
+            f"The contour {'touches' if hit.touching else 'crosses'} itself near "
+            f"({x:.1f}, {y:.1f}) (edges {i} and {j} of {len(pts)}); redraw it as a simple "
+            "loop that neither crosses nor touches itself."
         )
     area = signed_area(pts)
     if abs(area) < min_area:
@@ -210,20 +161,33 @@ def _merge(points: np.ndarray, keep: list[int], tol: float) -> list[int]:
 
     A vertex is dropped when every original point its two chords stood for lies within
     ``tol`` of the chord joining its neighbours; the vertex with the smallest such deviation
-    goes first, and only its neighbours' deviations change.
+    goes first (a heap), and only its neighbours' deviations change: O(k log k) for k
+    vertices, however many are dropped.
     """
-    keep = list(keep)
     k = len(keep)
-    dev = [_span_deviation(points, keep[i - 1], keep[(i + 1) % k]) for i in range(k)]
-    while len(keep) > 3:
-        i = int(np.argmin(dev))
-        if dev[i] > tol:
+    prev = [(i - 1) % k for i in range(k)]
+    succ = [(i + 1) % k for i in range(k)]
+    alive, version = [True] * k, [0] * k
+
+    def deviation(i: int) -> float:
+        return _span_deviation(points, keep[prev[i]], keep[succ[i]])
+
+    heap = [(deviation(i), i, 0) for i in range(k)]
+    heapq.heapify(heap)
+    left = k
+    while left > 3 and heap:
+        dev, i, v = heapq.heappop(heap)
+        if not alive[i] or v != version[i]:
+            continue  # dropped, or its deviation changed since
+        if dev > tol:
             break
-        del keep[i], dev[i]
-        k = len(keep)
-        for j in (i - 1, i % k):
-            dev[j % k] = _span_deviation(points, keep[(j - 1) % k], keep[(j + 1) % k])
-    return keep
+        alive[i], left = False, left - 1
+        a, b = prev[i], succ[i]
+        succ[a], prev[b] = b, a
+        for j in (a, b):
+            version[j] += 1
+            heapq.heappush(heap, (deviation(j), j, version[j]))
+    return [keep[i] for i in range(k) if alive[i]]
 
 
 def simplify_contour(points: np.ndarray, tolerance: float = 1.0) -> np.ndarray:

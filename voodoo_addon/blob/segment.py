@@ -10,6 +10,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
+from ..checks import finite_array
 from ..errors import VoodooError
 from .outline import simplify_contour, validate_contour
 
@@ -58,6 +59,10 @@ def segment_mask(frame: np.ndarray, point=None, box=None) -> np.ndarray:
     """
     if (point is None) == (box is None):
         raise VoodooError("Give either a point on the object or a box around it.")
+    if point is not None:
+        point = finite_array(point, "the point on the object", (2,))
+    if box is not None:
+        box = finite_array(box, "the box around the object", (4,))
     h, w = frame.shape[:2]
     f = min(1.0, WORK_SIZE / max(h, w))
     small = cv2.resize(frame, (int(round(w * f)), int(round(h * f))), interpolation=cv2.INTER_AREA)

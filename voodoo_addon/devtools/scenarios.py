@@ -4,7 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..checks import whole
+from ..errors import VoodooError
 from .synthetic import Pose, Scene, foam_scene, write_frames
+
+#: Frames a written scenario may have (they are rendered in memory first).
+MAX_FRAMES = 2000
+#: Width and height a written scenario may have, pixels (the doll is about 5000 pixels).
+SIZE_RANGE = (128, 1920)
 
 SCENARIOS = (
     "translate",
@@ -182,7 +189,22 @@ def scenario_take(
 
 
 def write_scenario(name: str, path, frames: int = 48, size=(320, 240)) -> np.ndarray:
-    """Render a scenario to a video or folder; returns the blob outline on frame 0."""
+    """Render a scenario to a video or folder; returns the blob outline on frame 0.
+
+    Raises
+    ------
+    VoodooError
+        For an unknown scenario, a number of frames or a size out of range (checked before
+        anything is rendered).
+    """
+    if name not in SCENARIOS:
+        raise VoodooError(f"Unknown scenario {name!r}; pick from {', '.join(SCENARIOS)}.")
+    frames = whole(frames, "the number of frames", 1, MAX_FRAMES)
+    try:
+        w, h = size
+    except (TypeError, ValueError):
+        raise VoodooError(f"The size must be a width and a height; got {size!r}.") from None
+    size = (whole(w, "the width", *SIZE_RANGE), whole(h, "the height", *SIZE_RANGE))
     images, contour, _ = scenario_take(name, frames, size)
     write_frames(path, images)
     return contour

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import cv2
 import numpy as np
 
@@ -54,8 +56,28 @@ def blur(image: np.ndarray, sigma: float) -> np.ndarray:
     return cv2.GaussianBlur(image, (k, k), sigma, borderType=cv2.BORDER_REFLECT)
 
 
+def check_picture_path(path) -> None:
+    """Raise a VoodooError unless OpenCV writes pictures with this name's extension.
+
+    For checking a preview's name before any work is done or any file is written.
+    """
+    suffix = Path(path).suffix
+    try:
+        ok = bool(suffix) and cv2.haveImageWriter(str(path))
+    except cv2.error:  # e.g. .exr while OpenEXR is disabled
+        ok = False
+    if not ok:
+        kind = f"'{suffix}' pictures" if suffix else "a picture without an extension"
+        raise VoodooError(f"Cannot write {kind} ({path}); name it .png or .jpg.")
+
+
 def write_image(path, image: np.ndarray) -> None:
     """Write float RGB in [0, 1] (or uint8 BGR) to a picture file."""
+    check_picture_path(path)
     img = image if image.dtype == np.uint8 else to_uint8_bgr(image)
-    if not cv2.imwrite(str(path), img):
+    try:
+        ok = cv2.imwrite(str(path), img)
+    except cv2.error as exc:
+        raise VoodooError(f"Could not write the picture {path} ({exc.err}).") from None
+    if not ok:
         raise VoodooError(f"Could not write the picture {path}.")

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..blob.model import ActiveBlob
+from ..checks import finite
 from ..errors import VoodooError
 from ..tracking.params import ParamLayout
 
@@ -26,6 +27,22 @@ from ..tracking.params import ParamLayout
 AXES = {"XY": (0, 1, 2), "XZ": (0, 2, 1), "YZ": (1, 2, 0)}
 #: One shape-key unit is this fraction of the blob's RMS radius.
 UNIT_FRACTION = 0.1
+#: Gains beyond this are refused: a hundred times the tracked motion is already far off the
+#: target, and Blender keeps an infinite gain as 3.4e38, whose shapes overflow.
+MAX_GAIN = 100.0
+
+
+def check_gain(value, mode: str = "") -> float:
+    """A mode's gain as a float; NaN, infinite and huge gains are refused (VoodooError).
+
+    Parameters
+    ----------
+    value : real number
+    mode : str
+        The mode's name, for the message.
+    """
+    what = f"the gain of mode {mode!r}" if mode else "a mode's gain"
+    return finite(value, what, -MAX_GAIN, MAX_GAIN)
 
 
 @dataclass(frozen=True)
@@ -273,10 +290,29 @@ class Rig:
         """One frame: shape-key values (k,) and the target's transform (4, 4)."""
         return self.values(params), self.transforms(params)[0]
 
+    def gains(self, gains=None) -> np.ndarray:
+        """The rig's modes' gains (k,) checked by :func:`check_gain`; 1 for all by default."""
+        if gains is None:
+            return np.ones(len(self.modes))
+        g = np.asarray(gains, dtype=object).ravel()
+        if len(g) != len(self.modes):
+            raise VoodooError(f"{len(g)} gains for {len(self.modes)} modes.")
+        names = [str(self.blob.labels[j]) for j in self.modes]
+        return np.array([check_gain(v, name) for v, name in zip(g, names, strict=True)])
+
+    def shape(self, row: int, gain=1.0) -> np.ndarray:
+        """The target's vertices (n, 3) at a shape-key value of 1 of the rig's mode ``row``.
+
+        What a mode's shape key holds: the rest pose plus the mode's offsets times its gain
+        (checked by :func:`check_gain`, so a NaN or infinite gain never reaches the mesh).
+        """
+        name = str(self.blob.labels[self.modes[row]])
+        return self.rest + check_gain(gain, name) * self.offsets[row]
+
     def vertices(self, params: np.ndarray, gains=None) -> np.ndarray:
         """Where the target's vertices (n, 3) are in one frame (what Blender should show)."""
         values, transform = self.pose(params)
-        offsets = self.offsets if gains is None else self.offsets * np.asarray(gains)[:, None, None]
+        offsets = self.offsets * self.gains(gains)[:, None, None]
         return predict_vertices(self.rest, offsets, values, transform)
 
 

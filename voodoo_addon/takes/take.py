@@ -5,13 +5,14 @@ from __future__ import annotations
 import io
 import sys
 import time
-import zipfile
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
+from ..archive import check_arrays, header, load_npz, require
 from ..blob.model import ActiveBlob
+from ..checks import whole
 from ..errors import VoodooError, read_file, write_file
 from ..media.sources import FrameSource
 from ..tracking import Tracker
@@ -148,37 +149,59 @@ def take_to_bytes(take: Take) -> bytes:
     return buf.getvalue()
 
 
+#: Every array of a take file: kind and shape (names are sizes that must agree).
+_SPEC = {
+    "vertices": ("float", ("T", "m", 2)),
+    "triangles": ("int", ("t", 3)),
+    "params": ("float", ("T", "P")),
+    "confidence": ("float", ("T",)),
+    "mode_labels": ("str", ("P",)),
+    "lost": ("bool", ("T",)),
+    "frame_indices": ("int", ("T",)),
+    "times": ("float", ("T",)),
+    "fps": ("float", ()),
+    "iterations": ("int", ("T",)),
+}
+
+
 def take_from_bytes(data: bytes, source: str = "the take data") -> Take:
-    """Inverse of :func:`take_to_bytes`; raises VoodooError on anything else."""
-    try:
-        with np.load(io.BytesIO(data), allow_pickle=False) as npz:
-            d = {k: npz[k] for k in npz.files}
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as exc:
-        raise VoodooError(f"{source} is not a readable take ({exc}).") from None
-    kind = str(d.get("format_kind", ""))
-    version = int(d["format_version"]) if "format_version" in d else -1
-    if kind != TAKE_KIND or version not in READABLE_VERSIONS:
+    """Inverse of :func:`take_to_bytes`.
+
+    Raises
+    ------
+    VoodooError
+        If the bytes are not a take of a version this code reads, or its arrays are damaged
+        (missing, of the wrong kind or shape, NaN, not fitting together).
+    """
+    d = load_npz(data, source, "Voodoo take")
+    is_take, version = header(d, TAKE_KIND)
+    if not is_take or version not in READABLE_VERSIONS:
         raise VoodooError(f"{source} is not a Voodoo take of version {TAKE_VERSION}.")
-    try:
-        if "visible" in d:
-            visible = d["visible"].astype(bool)
-        else:  # version 1: every triangle of every tracked frame
-            visible = np.repeat(~d["lost"][:, None], len(d["triangles"]), axis=1)
-        return Take(
-            vertices=d["vertices"],
-            triangles=d["triangles"],
-            params=d["params"],
-            confidence=d["confidence"],
-            lost=d["lost"],
-            param_names=d["mode_labels"],
-            frame_indices=d["frame_indices"],
-            times=d["times"],
-            fps=float(d["fps"]),
-            iterations=d["iterations"],
-            visible=visible,
-        )
-    except KeyError as exc:
-        raise VoodooError(f"{source} is incomplete (missing {exc.args[0]}).") from None
+    spec = dict(_SPEC, visible=("bool", ("T", "t"))) if version >= 2 else _SPEC
+    size = check_arrays(d, spec, source)
+    require(size["T"] >= 1, source, "no frames")
+    tri = d["triangles"]
+    require(len(tri) == 0 or (tri.min() >= 0 and tri.max() < size["m"]), source, "bad triangles")
+    conf = d["confidence"]
+    require(((conf >= 0) & (conf <= 1)).all(), source, "confidence outside 0..1")
+    require(float(d["fps"]) > 0 and (d["frame_indices"] >= 0).all(), source, "bad frame times")
+    if "visible" in spec:
+        visible = d["visible"]
+    else:  # version 1: every triangle of every tracked frame
+        visible = np.repeat(~d["lost"][:, None], size["t"], axis=1)
+    return Take(
+        vertices=d["vertices"],
+        triangles=tri,
+        params=d["params"],
+        confidence=conf,
+        lost=d["lost"],
+        param_names=d["mode_labels"],
+        frame_indices=d["frame_indices"],
+        times=d["times"],
+        fps=float(d["fps"]),
+        iterations=d["iterations"],
+        visible=visible,
+    )
 
 
 def save_take(path, take: Take) -> None:
@@ -239,12 +262,14 @@ def track_source(
     progress : callable, optional
         Called with the number of frames done.
     limit : int, optional
-        Stop after this many frames (needed for live cameras).
+        Stop after this many frames (needed for live cameras); at least 1.
 
     Returns
     -------
     Take
     """
+    if limit is not None:
+        limit = whole(limit, "the number of frames to track", 1)
     tracker = tracker or Tracker(blob)
     results, indices, times = [], [], []
     for frame in source:
@@ -259,4 +284,38 @@ def track_source(
         raise VoodooError("The source gave no frames to track.")
     return Take.from_results(
         results, blob.triangles, tracker.parameter_names, indices, times, source.fps
+    )
+
+
+def missing_frames(
+    source: FrameSource, take: Take, limit: int | None = None, name: str = "the source"
+) -> str | None:
+    """A warning when a file gave fewer frames than it announced (truncated, damaged).
+
+    Parameters
+    ----------
+    source : FrameSource
+        The source the take was tracked from (its frame count as announced).
+    take : Take
+    limit : int, optional
+        The number of frames that was asked for.
+    name : str
+        The source's name in the message.
+
+    Returns
+    -------
+    str or None
+        None when every expected frame was tracked, or the source does not say how many it
+        has (a camera).
+    """
+    if source.count is None or source.live or not len(take):
+        return None
+    expected = source.count - int(take.frame_indices[0])
+    if limit is not None:
+        expected = min(expected, limit)
+    if len(take) >= expected:
+        return None
+    return (
+        f"{name}: {expected} frames expected, {len(take)} read (the file ends early or is "
+        f"damaged); the take has the {len(take)} frames read."
     )

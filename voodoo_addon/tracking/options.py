@@ -4,6 +4,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..checks import finite, whole
+from ..errors import VoodooError
+
 #: The lighting models :attr:`TrackerOptions.lighting` may name.
 LIGHTING = ("local", "channel", "global", "none")
 
@@ -80,3 +83,36 @@ class TrackerOptions:
     refine_below: float = 0.97
     adapt_below: float = 0.97
     features: bool = True
+
+    def __post_init__(self):
+        """Refuse NaN, infinity and out-of-range settings by name (a VoodooError)."""
+        if self.lighting not in LIGHTING:
+            raise VoodooError(
+                f"Unknown lighting model {self.lighting!r}; use one of {', '.join(LIGHTING)}."
+            )
+        numbers = {
+            "sigma": finite(self.sigma, "the norm's scale (sigma)", 0.0, low_open=True),
+            "gamma": finite(self.gamma, "the stiffness weight (gamma)", 0.0),
+            "max_levels": whole(self.max_levels, "the number of pyramid levels", 1, 16),
+            "min_level_pixels": whole(self.min_level_pixels, "the pixels of a coarse level", 0),
+            "max_iterations": whole(self.max_iterations, "the iterations per level", 1),
+            "tolerance": finite(self.tolerance, "the residual tolerance", 0.0),
+            "step_tolerance": finite(self.step_tolerance, "the step tolerance", 0.0),
+            "fine_capture": finite(self.fine_capture, "the fine capture distance", 0.0),
+            "outlier_factor": finite(self.outlier_factor, "the outlier factor", 0.0, low_open=True),
+        }
+        if self.pixel_budget is not None:
+            numbers["pixel_budget"] = whole(self.pixel_budget, "the pixel budget", 0)
+        for name, what in _THRESHOLDS.items():
+            numbers[name] = finite(getattr(self, name), what, 0.0, 1.0)
+        for name, value in numbers.items():
+            object.__setattr__(self, name, value)
+
+
+_THRESHOLDS = {
+    "lost_below": "the confidence below which the blob is lost",
+    "reacquire_above": "the confidence that finds a lost blob again",
+    "propose_below": "the confidence below which other starts are proposed",
+    "refine_below": "the confidence below which the local stage runs",
+    "adapt_below": "the confidence below which the appearance adapts",
+}

@@ -16,7 +16,7 @@ from ..blob.model import ActiveBlob
 from ..errors import VoodooError
 from .fitter import CoarseToFineFitter, Fit
 from .norms import LorentzianNorm, RobustNorm
-from .options import LIGHTING, TrackerOptions
+from .options import TrackerOptions
 from .params import ParamLayout
 from .proposals import FeatureMatcher, MotionProposal
 from .threads import single_blas_thread
@@ -102,8 +102,6 @@ class Tracker:
         self.options = opt = options or TrackerOptions()
         self.backend = backend or CpuWarp()
         self.norm = norm or LorentzianNorm(opt.sigma)
-        if opt.lighting not in LIGHTING:
-            raise VoodooError(f"Unknown lighting model {opt.lighting!r}; use one of {LIGHTING}.")
         photometric = "channel" if opt.lighting == "local" else opt.lighting
         self.layout = ParamLayout(tuple(str(s) for s in blob.labels), photometric)
         with single_blas_thread():
