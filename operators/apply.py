@@ -12,7 +12,7 @@ import bpy
 import numpy as np
 
 from ..voodoo_addon.errors import VoodooError
-from ..voodoo_addon.takes.rig import Rig, mapping_from_list
+from ..voodoo_addon.takes.rig import Rig, check_gain, mapping_from_list
 from ..voodoo_addon.tracking.params import ParamLayout
 from .animation import (
     active_channelbag,
@@ -95,10 +95,7 @@ def layout_for(blob, take) -> ParamLayout:
 
 
 def _gain(mode) -> float:
-    gain = float(mode.gain)
-    if not np.isfinite(gain):
-        raise VoodooError(f"Mode {mode.name!r} has gain {gain}; give it a finite number.")
-    return gain
+    return check_gain(mode.gain, mode.name)
 
 
 def shape_for_mode(obj, blob_mesh, mode, offsets_row, rest):

@@ -12,6 +12,8 @@ from bpy.props import (
     StringProperty,
 )
 
+from ..voodoo_addon.takes.rig import MAX_GAIN
+
 
 def _modes_changed(self, context):
     from .apply import refresh_modes
@@ -43,6 +45,8 @@ class VOODOO_PG_mode(bpy.types.PropertyGroup):
         name="Gain",
         description="Scale this mode's effect on the target",
         default=1.0,
+        min=-MAX_GAIN,
+        max=MAX_GAIN,
         soft_min=-3.0,
         soft_max=3.0,
         update=_modes_changed,
