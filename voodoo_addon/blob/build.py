@@ -30,6 +30,13 @@ MAX_OUTLINE_CORNERS = 200
 TOLERANCE_STEP = 2**0.5
 #: ... up to this fraction of the outline's size (beyond it the shape would be lost).
 MAX_TOLERANCE_FRACTION = 0.05
+#: Meshes with more nodes than this build and track slowly (a warning) ...
+SLOW_NODES = 400
+#: ... and with more than this are refused: the FE matrices are dense, (2 m)^2 numbers
+#: each, and their eigen-decomposition takes seconds at 800 nodes, minutes at a few thousand.
+MAX_NODES = 800
+#: A mesh needs at least this many pixels per node (the mass matrix sums over pixels).
+PIXELS_PER_NODE = 4
 #: Largest template blur, pixels (the kernel grows with it).
 MAX_BLUR = 20.0
 #: Highest polynomial tier of the mode basis (degree d brings 2 (d + 1) fields).
@@ -84,9 +91,7 @@ class BlobOptions:
             "simplify_tolerance": finite(self.simplify_tolerance, "the outline tolerance", 0.0),
             "blur_sigma": finite(self.blur_sigma, "the template blur", 0.0, MAX_BLUR),
             "poisson": finite(self.poisson, "the Poisson ratio", -1.0, 0.5, True, True),
-            "width_factor": finite(
-                self.width_factor, "the interpolant width factor", 0.0, low_open=True
-            ),
+            "width_factor": finite(self.width_factor, "the interpolant width factor", 0.1, 10.0),
             "poly_degree": whole(self.poly_degree, "the polynomial degree", 0, MAX_POLY_DEGREE),
         }
         for name, value in numbers.items():
@@ -173,8 +178,19 @@ def build_blob(frame: np.ndarray, contour, options: BlobOptions | None = None) -
     h, w = frame.shape[:2]
     pts, warnings = _simplified(validate_contour(contour, frame_size=(w, h)), opt)
     mesh = triangulate(pts, min_angle=opt.min_angle, max_area=opt.max_area)
+    if len(mesh.vertices) > MAX_NODES:
+        raise VoodooError(
+            f"The mesh would have {len(mesh.vertices)} nodes; at most {MAX_NODES} can be "
+            "built and tracked (its matrices are dense). Raise the maximum triangle area."
+        )
     pixels = rasterize(mesh)
-    if len(mesh.vertices) > 400:
+    if len(pixels.coords) < PIXELS_PER_NODE * len(mesh.vertices):
+        raise VoodooError(
+            f"The region covers {len(pixels.coords)} pixels for {len(mesh.vertices)} mesh "
+            "nodes: it is too thin or too small for its mesh. Outline a wider region or "
+            "raise the maximum triangle area."
+        )
+    if len(mesh.vertices) > SLOW_NODES:
         warnings.append(
             f"The mesh has {len(mesh.vertices)} nodes; building and tracking will be slow. "
             "Raise the maximum triangle area."
@@ -191,9 +207,15 @@ def build_blob(frame: np.ndarray, contour, options: BlobOptions | None = None) -
     if k > available:
         warnings.append(f"Only {available} modes exist for this mesh; using all of them.")
         k = available
-    modal = select_modes(
-        mass, stiff, constraints, k, mesh.vertices, centre, length, opt.poly_degree
-    )
+    try:
+        modal = select_modes(
+            mass, stiff, constraints, k, mesh.vertices, centre, length, opt.poly_degree
+        )
+    except np.linalg.LinAlgError:  # a mass matrix without full rank: too few pixels
+        raise VoodooError(
+            "The region's elastic model is singular (too few pixels for its mesh); outline "
+            "a wider region or raise the maximum triangle area."
+        ) from None
     shapes, penalty = modal.shapes, modal.stiffness
     labels, signs, match = label_modes(
         shapes, mass, modal.constrained, mesh.vertices, centre, length

@@ -9,6 +9,10 @@ from ..errors import VoodooError
 
 #: The lighting models :attr:`TrackerOptions.lighting` may name.
 LIGHTING = ("local", "channel", "global", "none")
+#: Norm scales the tracker takes (images are in [0, 1]; below, 1 / sigma^2 overflows).
+SIGMA_RANGE = (1e-4, 10.0)
+#: Stiffness weights it takes (beyond, the modes cannot move and the solve is singular).
+GAMMA_RANGE = (0.0, 1e6)
 
 
 @dataclass(frozen=True)
@@ -91,8 +95,8 @@ class TrackerOptions:
                 f"Unknown lighting model {self.lighting!r}; use one of {', '.join(LIGHTING)}."
             )
         numbers = {
-            "sigma": finite(self.sigma, "the norm's scale (sigma)", 0.0, low_open=True),
-            "gamma": finite(self.gamma, "the stiffness weight (gamma)", 0.0),
+            "sigma": finite(self.sigma, "the norm's scale (sigma)", *SIGMA_RANGE),
+            "gamma": finite(self.gamma, "the stiffness weight (gamma)", *GAMMA_RANGE),
             "max_levels": whole(self.max_levels, "the number of pyramid levels", 1, 16),
             "min_level_pixels": whole(self.min_level_pixels, "the pixels of a coarse level", 0),
             "max_iterations": whole(self.max_iterations, "the iterations per level", 1),
