@@ -9,7 +9,7 @@ VENV2  := .venv-np2
 BIN2   := $(VENV2)/bin
 STAMP2 := $(VENV2)/.installed-$(shell cat requirements.txt requirements-test.txt requirements-numpy2.txt | cksum | cut -d' ' -f1)
 
-.PHONY: setup setup-numpy2 mesa test test-numpy2 demo bench lint extension clean
+.PHONY: setup setup-numpy2 mesa test test-numpy2 fuzz demo bench lint extension clean
 
 setup: $(STAMP)
 
@@ -42,6 +42,11 @@ test: setup mesa
 ## The engine tests on NumPy 2 (requirements-numpy2.txt): Blender 5.1 and later ship NumPy 2.x.
 test-numpy2: setup-numpy2
 	$(BIN2)/python -m pytest tests/engine
+
+## The fuzz test for four minutes per part (the suite runs it for 15 s per part); pick other
+## inputs with VOODOO_FUZZ_SEED=n.
+fuzz: setup
+	VOODOO_FUZZ_SECONDS=240 $(BIN)/python -m pytest tests/engine/test_fuzz.py
 
 ## Build a blob from the sample take, track it, apply it to the sample characters.
 demo: setup mesa
