@@ -42,7 +42,7 @@ class VOODOO_OT_build_blob(bpy.types.Operator):
             item = s.modes.add()
             item.name = str(label)
             item.index = j
-            item.stiffness = float(blob.stiffness_penalty[j])
+            item.stiffness = float(blob.mode_stiffness[j])
         s.active_mode = 0
         for w in blob.warnings:
             self.report({"WARNING"}, w)

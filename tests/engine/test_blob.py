@@ -96,7 +96,7 @@ def test_interpolant_is_delta_at_the_nodes(blob):
 def test_mode_count_option(foam, n_modes):
     _, frame, contour = foam
     b = build_blob(frame, contour, BlobOptions(n_modes=n_modes))
-    assert b.n_modes == n_modes == len(b.labels) == len(b.stiffness_penalty)
+    assert b.n_modes == n_modes == len(b.labels) == len(b.mode_stiffness)
 
 
 def test_too_many_modes_are_clamped_with_a_warning(foam):
@@ -161,6 +161,12 @@ def test_file_round_trip_is_exact(blob, tmp_path):
     # And it still behaves like a blob.
     assert back.labels.tolist() == blob.labels.tolist()
     np.testing.assert_array_equal(back.template, blob.template)
+
+
+def test_files_written_before_the_mode_stiffness_rename_still_load(blob):
+    arrays = _arrays(blob)
+    arrays["stiffness_penalty"] = arrays.pop("mode_stiffness")  # the name until 2026-11
+    assert_same_blob(blob, blob_from_bytes(_npz_bytes(**arrays)))
 
 
 def test_file_is_a_pickle_free_npz(blob, tmp_path):

@@ -104,7 +104,7 @@ def test_blob_options_are_passed_on(repo_root, files, tmp_path):
     proj = np.eye(len(blob.mass)) - r @ r.T @ blob.mass
     lhs = proj.T @ blob.stiffness @ blob.modes
     np.testing.assert_allclose(
-        lhs, blob.mass @ blob.modes * blob.stiffness_penalty, atol=1e-9 * np.abs(lhs).max()
+        lhs, blob.mass @ blob.modes * blob.mode_stiffness, atol=1e-9 * np.abs(lhs).max()
     )
 
 

@@ -34,7 +34,7 @@ def _rel(a, b):
 
 def test_plain_fe_modes_solve_the_generalised_eigenproblem(fe_blob):
     # poly_degree=0, only rigid motions separated: K phi = w^2 M phi exactly.
-    k, m, phi, w2 = fe_blob.stiffness, fe_blob.mass, fe_blob.modes, fe_blob.stiffness_penalty
+    k, m, phi, w2 = fe_blob.stiffness, fe_blob.mass, fe_blob.modes, fe_blob.mode_stiffness
     assert fe_blob.constrained.shape[1] == 3
     lhs, rhs = k @ phi, m @ phi * w2
     assert _rel(lhs, rhs) < 1e-9
@@ -44,19 +44,19 @@ def test_fe_modes_are_the_lowest_eigenvectors(fe_blob):
     w_all = scipy.linalg.eigh(fe_blob.stiffness, fe_blob.mass, eigvals_only=True)
     # Three rigid zeros, then the elastic spectrum the blob kept.
     assert np.abs(w_all[:3]).max() < 1e-9 * w_all[3]
-    np.testing.assert_allclose(fe_blob.stiffness_penalty, w_all[3 : 3 + fe_blob.n_modes], rtol=1e-8)
+    np.testing.assert_allclose(fe_blob.mode_stiffness, w_all[3 : 3 + fe_blob.n_modes], rtol=1e-8)
 
 
 def test_scale_separated_fe_modes_solve_the_projected_problem(fe_blob_scale):
     b = fe_blob_scale
-    k, m, phi, w2, r = b.stiffness, b.mass, b.modes, b.stiffness_penalty, b.constrained
+    k, m, phi, w2, r = b.stiffness, b.mass, b.modes, b.mode_stiffness, b.constrained
     assert r.shape[1] == 4
     proj = np.eye(len(m)) - r @ r.T @ m  # M-orthogonal projector off the constrained fields
     assert _rel(proj.T @ k @ phi, m @ phi * w2) < 1e-9
 
 
 def test_modes_are_m_orthonormal_and_k_orthogonal(any_blob):
-    phi, w2 = any_blob.modes, any_blob.stiffness_penalty
+    phi, w2 = any_blob.modes, any_blob.mode_stiffness
     np.testing.assert_allclose(phi.T @ any_blob.mass @ phi, np.eye(phi.shape[1]), atol=1e-9)
     pkp = phi.T @ any_blob.stiffness @ phi
     np.testing.assert_allclose(pkp, np.diag(w2), atol=1e-9 * w2.max())
@@ -69,7 +69,7 @@ def test_modes_are_m_orthogonal_to_the_constrained_fields(any_blob):
 
 
 def test_stiffness_increases_and_is_positive(any_blob):
-    w2 = any_blob.stiffness_penalty
+    w2 = any_blob.mode_stiffness
     assert any_blob.n_modes == 20
     assert (w2 > 0).all()
     assert (np.diff(w2) >= 0).all()
@@ -78,7 +78,7 @@ def test_stiffness_increases_and_is_positive(any_blob):
 def test_rigid_fields_carry_no_strain_energy(any_blob):
     r, k = any_blob.constrained, any_blob.stiffness
     rigid = np.diag(r[:, :3].T @ k @ r[:, :3])
-    assert np.abs(rigid).max() < 1e-9 * any_blob.stiffness_penalty.min()
+    assert np.abs(rigid).max() < 1e-9 * any_blob.mode_stiffness.min()
 
 
 def test_constrained_fields_are_the_similarity_fields(any_blob):
@@ -193,7 +193,7 @@ def test_modal_analysis_and_select_modes_agree_without_polynomials(blob):
     sim = similarity_fields(blob.vertices, blob.centre, blob.length)
     full = modal_analysis(blob.mass, blob.stiffness, sim)
     sel = select_modes(blob.mass, blob.stiffness, sim, 6, poly_degree=0)
-    np.testing.assert_allclose(sel.stiffness, full.stiffness[:6], rtol=1e-9)
+    np.testing.assert_allclose(sel.mode_stiffness, full.mode_stiffness[:6], rtol=1e-9)
     assert full.shapes.shape == (len(blob.mass), len(blob.mass) - 4)
 
 

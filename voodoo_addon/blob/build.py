@@ -216,7 +216,7 @@ def build_blob(frame: np.ndarray, contour, options: BlobOptions | None = None) -
             "The region's elastic model is singular (too few pixels for its mesh); outline "
             "a wider region or raise the maximum triangle area."
         ) from None
-    shapes, penalty = modal.shapes, modal.stiffness
+    shapes, penalty = modal.shapes, modal.mode_stiffness
     labels, signs, match = label_modes(
         shapes, mass, modal.constrained, mesh.vertices, centre, length
     )
@@ -235,7 +235,7 @@ def build_blob(frame: np.ndarray, contour, options: BlobOptions | None = None) -
         stiffness=stiff,
         constrained=modal.constrained,
         modes=shapes,
-        stiffness_penalty=penalty,
+        mode_stiffness=penalty,
         labels=np.array(labels, dtype=str),
         label_match=match,
         texture=texture,

@@ -137,13 +137,13 @@ class Modes:
         fields, and the scale field when it is separated).
     shapes : (2m, k) float64
         Elastic modes, M-orthonormal, ordered by increasing stiffness.
-    stiffness : (k,) float64
+    mode_stiffness : (k,) float64
         ``w_j^2`` of each elastic mode: its regularisation penalty ``psi_j^2`` (Eq. 10).
     """
 
     constrained: np.ndarray
     shapes: np.ndarray
-    stiffness: np.ndarray
+    mode_stiffness: np.ndarray
 
 
 def polynomial_fields(
@@ -220,7 +220,7 @@ def modal_analysis(mass: np.ndarray, stiff: np.ndarray, constraints: np.ndarray)
     mr = z.T @ mass @ z
     w2, y = scipy.linalg.eigh(0.5 * (kr + kr.T), 0.5 * (mr + mr.T))
     shapes = z @ y
-    return Modes(constrained=r, shapes=shapes, stiffness=np.maximum(w2, 0.0))
+    return Modes(constrained=r, shapes=shapes, mode_stiffness=np.maximum(w2, 0.0))
 
 
 def select_modes(
@@ -281,7 +281,7 @@ def select_modes(
         rest = modal_analysis(mass, stiff, np.column_stack([r, chosen]))
         take = n_modes - chosen.shape[1]
         chosen = np.column_stack([chosen, rest.shapes[:, :take]])
-        stiffness = np.concatenate([stiffness, rest.stiffness[:take]])
+        stiffness = np.concatenate([stiffness, rest.mode_stiffness[:take]])
     if poly_degree >= 1 and chosen.shape[1]:
         chosen, stiffness = ritz(mass, stiff, chosen)
-    return Modes(constrained=r, shapes=chosen, stiffness=stiffness)
+    return Modes(constrained=r, shapes=chosen, mode_stiffness=stiffness)

@@ -42,13 +42,13 @@ class ActiveBlob:
         Gaussian interpolant width ``s``, pixels.
     poisson : float
     mass, stiffness : (2m, 2m) float64
-        FE matrices (see :mod:`voodoo_addon.fem` for their normalisation).
+        FE mass and stiffness matrices M and K (normalised as in :mod:`voodoo_addon.blob.fem`).
     constrained : (2m, c) float64
         M-orthonormal exact fields: translate-x, translate-y, rotate and (when separated)
         scale.
     modes : (2m, k) float64
         Elastic modes, M-orthonormal, increasing stiffness, sign fixed by the label.
-    stiffness_penalty : (k,) float64
+    mode_stiffness : (k,) float64
         ``w_j^2`` per mode: the regularisation penalty ``psi_j^2`` of Eq. 10.
     labels : (k,) str
         Readable mode names.
@@ -80,7 +80,7 @@ class ActiveBlob:
     stiffness: np.ndarray
     constrained: np.ndarray
     modes: np.ndarray
-    stiffness_penalty: np.ndarray
+    mode_stiffness: np.ndarray
     labels: np.ndarray
     label_match: np.ndarray
     texture: np.ndarray
@@ -148,7 +148,7 @@ _SPEC = {
     "stiffness": ("float", ("2m", "2m")),
     "constrained": ("float", ("2m", "c")),
     "modes": ("float", ("2m", "k")),
-    "stiffness_penalty": ("float", ("k",)),
+    "mode_stiffness": ("float", ("k",)),
     "labels": ("str", ("k",)),
     "label_match": ("float", ("k",)),
     "texture": ("float", ("h", "w", 3)),
@@ -159,6 +159,9 @@ _SPEC = {
     "pixel_triangle": ("int", ("n",)),
     "pixel_weights": ("float", ("n", 3)),
 }
+
+#: Fields of older files under their old names (same format version: only the name changed).
+_RENAMED = {"stiffness_penalty": "mode_stiffness"}
 
 
 def blob_to_bytes(blob: ActiveBlob) -> bytes:
@@ -184,6 +187,9 @@ def blob_from_bytes(data: bytes, source: str = "the blob data") -> ActiveBlob:
         damaged (missing, of the wrong kind or shape, not finite, not fitting together).
     """
     arrays = load_npz(data, source, "Voodoo blob")
+    for old, new in _RENAMED.items():  # files written before a field was renamed
+        if old in arrays and new not in arrays:
+            arrays[new] = arrays.pop(old)
     is_blob, version = header(arrays, FORMAT_KIND)
     if not is_blob:
         raise VoodooError(f"{source} is not a Voodoo blob file (no blob header).")

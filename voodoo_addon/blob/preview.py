@@ -95,7 +95,7 @@ def modes_picture(
         moved = blob.vertices + amp * blob.mode_shape(j)
         draw_mesh(tile, moved, blob.triangles, MESH, scale, offset)
         _label(tile, f"{j + 1}: {blob.labels[j]}", (6, 16))
-        _label(tile, f"stiffness {blob.stiffness_penalty[j]:.2f}", (6, panel - 8), 0.4)
+        _label(tile, f"stiffness {blob.mode_stiffness[j]:.2f}", (6, panel - 8), 0.4)
         tiles.append(tile)
     rows = []
     for r in range(0, len(tiles), columns):

@@ -113,7 +113,7 @@ class CoarseToFineFitter:
                 backend,
                 norm,
                 opt.gamma,
-                blob.stiffness_penalty,
+                blob.mode_stiffness,
                 opt.outlier_factor,
                 floor,
                 self.nodes,

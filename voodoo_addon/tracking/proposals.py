@@ -63,7 +63,7 @@ class PointFit:
         phi = blob.modes[:, :k].reshape(-1, 2, k)  # (m, 2, k)
         # Point displacement per unit mode amplitude: (n, 2, k).
         self.fields = np.einsum("nj,njdk->ndk", weights, phi[nodes])
-        self.penalty = blob.stiffness_penalty[:k]
+        self.penalty = blob.mode_stiffness[:k]
 
     def positions(self, a: np.ndarray) -> np.ndarray:
         """Where the points are under parameters ``a`` (n, 2)."""
