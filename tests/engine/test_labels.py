@@ -22,13 +22,18 @@ def _cosine(blob, j, name):
     return float(blob.modes[:, j] @ blob.mass @ _field(blob, name))
 
 
+def _label_one(blob, f):
+    """Name one displacement field on the blob's mesh: (labels, signs, share)."""
+    return label_modes(
+        f[:, None], blob.mass, blob.constrained, blob.vertices, blob.centre, blob.length
+    )
+
+
 @pytest.mark.parametrize("name", ["stretch-x", "shear", "bend-x", "bend-y"])
 @pytest.mark.parametrize("sign", [1.0, -1.0])
 def test_pure_fields_get_their_own_names(blob, name, sign):
     f = sign * _field(blob, name)
-    labels, signs, share = label_modes(
-        f[:, None], blob.mass, blob.constrained, blob.vertices, blob.centre, blob.length
-    )
+    labels, signs, share = _label_one(blob, f)
     assert labels == [name]
     assert signs[0] == sign
     assert share[0] > 0.95
@@ -138,9 +143,7 @@ def test_a_typical_blob_leaves_at_most_two_modes_unnamed(request, blob_name):
 @pytest.mark.parametrize("sign", [1.0, -1.0])
 def test_higher_order_variant_is_named_after_its_field(blob, name, sign):
     f = sign * _variant(blob, name, lambda x, y: x * x + y * y)
-    labels, signs, share = label_modes(
-        f[:, None], blob.mass, blob.constrained, blob.vertices, blob.centre, blob.length
-    )
+    labels, signs, share = _label_one(blob, f)
     assert labels == [name]
     assert signs[0] == sign
     assert share[0] > 0.8
