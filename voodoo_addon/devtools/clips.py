@@ -261,9 +261,15 @@ def main(argv=None) -> int:
     p.add_argument("--only", nargs="*", help="clip names")
     p.add_argument("--trackers", nargs="*", default=["ours", "klt", "dis"])
     p.add_argument("--json", help="write all rows (with per-frame series) here")
+    p.add_argument(
+        "--root",
+        type=Path,
+        default=SAMPLES,
+        help="folder holding real/ and hard/ (default: the repository's samples)",
+    )
     args = p.parse_args(argv)
     rows = []
-    for clip in clip_suite():
+    for clip in clip_suite(args.root):
         if args.only and clip.name not in args.only:
             continue
         t0 = time.perf_counter()
