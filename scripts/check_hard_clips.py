@@ -37,8 +37,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from voodoo_addon.bench import lattice_truth  # noqa: E402
-from voodoo_addon.contour import validate_contour  # noqa: E402
+from voodoo_addon.blob.outline import validate_contour  # noqa: E402
+from voodoo_addon.devtools.bench import lattice_truth  # noqa: E402
 
 WIDTH, HEIGHT = 640, 360
 

@@ -22,7 +22,7 @@ Every clip NAME writes into ``--out``:
     ``visible`` (T, R, C) bool: the point is inside the image, on the side of the sheet turned
     towards the camera and not hidden by anything (a ray cast from the camera); ``fps``.
     On frame 0 the sheet lies flat and square to the camera, so there the lattice is an
-    axis-aligned grid (see ``lattice_truth`` in ``voodoo_addon/bench.py``).
+    axis-aligned grid (see ``lattice_truth`` in ``voodoo_addon/devtools/bench.py``).
 
 and ``README.md`` lists the clips. The clips (all but ``fast_8fps`` at 30 fps; perspective
 camera; every sheet holds its rest pose for the first three frames):
