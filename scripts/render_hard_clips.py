@@ -50,6 +50,10 @@ camera; every sheet holds its rest pose for the first three frames):
     A thin printed bag crumples: creases grow, the sheet is squeezed and folds over itself so
     that some of it is hidden for a while, then it relaxes almost flat.
 
+The held-out clips of ``hardclips/heldout.py`` (``handheld_zoom``, ``occluded_exit``,
+``glossy_fast_twist``), for checking that the tracker generalises, are made only when named with
+``--only`` (not together with the others), into a folder of their own outside ``samples/``.
+
 Everything is seeded: the same command makes the same scenes, truth and outlines (Cycles runs
 seeded on one thread, so the renders should repeat too). All seven take about 50 minutes.
 
@@ -62,7 +66,8 @@ before bpy starts.
 import argparse
 from pathlib import Path
 
-from hardclips.make import make_clip, write_readme  # scripts/ is on sys.path; pins one core
+from hardclips.heldout import HELDOUT  # scripts/ is on sys.path; hardclips pins one core
+from hardclips.make import make_clip, write_readme
 from hardclips.scenarios import CLIPS
 
 
@@ -70,7 +75,10 @@ def parse_args(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("samples/hard"), help="output folder")
     parser.add_argument(
-        "--only", nargs="+", choices=[c.name for c in CLIPS], help="make only these clips"
+        "--only",
+        nargs="+",
+        choices=[c.name for c in CLIPS + HELDOUT],
+        help="make only these clips (the held-out ones only so)",
     )
     parser.add_argument(
         "--draft", action="store_true", help="render with Workbench, to check the geometry"
@@ -84,12 +92,17 @@ def parse_args(argv=None):
 def main(argv=None):
     args = parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
+    if args.only is None:
+        clips = CLIPS  # never the held-out clips
+    else:
+        clips = [c for c in CLIPS + HELDOUT if c.name in args.only]
+        if any(c in HELDOUT for c in clips) and any(c in CLIPS for c in clips):
+            raise SystemExit("make the held-out clips apart from the others, in another folder")
     total = 0.0
-    for clip in CLIPS:
-        if args.only is None or clip.name in args.only:
-            total += make_clip(clip, args.out, args.draft, args.truth_only)
+    for clip in clips:
+        total += make_clip(clip, args.out, args.draft, args.truth_only)
     if not (args.draft or args.truth_only):
-        write_readme(args.out)
+        write_readme(args.out, HELDOUT if clips[0] in HELDOUT else CLIPS)
     print(f"rendering took {total:.0f} s in all")
 
 

@@ -10,10 +10,16 @@ import bpy
 # isort: split
 import numpy as np
 
+from hardclips.heldout import HELDOUT
 from hardclips.scenarios import CLIPS
 from hardclips.scene import HEIGHT, SEED, WIDTH, new_scene
 from hardclips.truth import lattice_truth, region_outline
 from hardclips.video import NOISE_SIGMA, develop, encode, render_frames
+
+
+def clip_number(clip):
+    """The clip's place in ``CLIPS`` (held-out clips: 100 + in ``HELDOUT``): seeds its scene."""
+    return CLIPS.index(clip) if clip in CLIPS else 100 + HELDOUT.index(clip)
 
 
 def make_clip(clip, out, draft, truth_only=False):
@@ -21,7 +27,7 @@ def make_clip(clip, out, draft, truth_only=False):
 
     ``draft`` renders with Workbench. Returns the seconds spent rendering.
     """
-    rng = np.random.default_rng([SEED, 2, CLIPS.index(clip)])
+    rng = np.random.default_rng([SEED, 2, clip_number(clip)])
     scene = new_scene(clip, draft)
     sheet = clip.build(rng, clip)
     started = time.perf_counter()
@@ -46,7 +52,7 @@ def make_clip(clip, out, draft, truth_only=False):
         paths = render_frames(scene, tmp)
         render_s = time.perf_counter() - started
         video = out.resolve() / f"{clip.name}.mp4"
-        crf = encode(develop(clip, CLIPS.index(clip), paths, tmp), clip.fps, video)
+        crf = encode(develop(clip, clip_number(clip), paths, tmp), clip.fps, video)
     print(
         f"{clip.name}: {clip.frames} frames at {clip.fps} fps, lattice {lattice.shape[1:3]}, "
         f"truth {truth_s:.0f} s, render {render_s:.0f} s ({render_s / clip.frames:.2f} s/frame),"
@@ -57,7 +63,7 @@ def make_clip(clip, out, draft, truth_only=False):
     return render_s
 
 
-README = """# Hard test clips
+MAKING = """# Hard test clips
 
 Rendered with Blender {blender} (the `bpy` module, headless) by
 [`scripts/render_hard_clips.py`](../../scripts/render_hard_clips.py): every scene, texture,
@@ -66,7 +72,20 @@ command makes the same scenes, truth and outlines (about 50 minutes on one CPU c
 
     .venv/bin/python scripts/render_hard_clips.py --out samples/hard
 
-(`--only NAME ...` remakes some clips only). Check them with
+(`--only NAME ...` remakes some clips only)."""
+
+MAKING_HELDOUT = """# Held-out hard clips
+
+Clips for checking that the tracker generalises: never tune it on these. Rendered with Blender
+{blender} (the `bpy` module, headless) by `scripts/render_hard_clips.py` (scenes in
+`scripts/hardclips/heldout.py`, paint in `scripts/heldout_textures.py`) from a fixed seed, so
+the same command makes the same scenes, truth and outlines; it makes them only when named:
+
+    .venv/bin/python scripts/render_hard_clips.py --out /tmp/heldout/hard --only {names}
+
+Keep them out of `samples/hard`."""
+
+README = """{making} Check them with
 `.venv/bin/python scripts/check_hard_clips.py` (statistics, and contact sheets in
 `/tmp/hard_check/`); `.venv/bin/python scripts/check_truth_dots.py` re-renders a few frames
 with dots painted on the lattice points and measures them against the truth.
@@ -85,19 +104,25 @@ frame-0 lattice is an axis-aligned grid.
 """
 
 
-def write_readme(out):
-    """``out``/README.md: how the clips were made, what they hold, one row per clip."""
+def write_readme(out, clips=CLIPS):
+    """``out``/README.md: how the clips were made, what they hold, one row per clip.
+
+    ``clips`` is ``CLIPS`` or ``HELDOUT``.
+    """
+    making = MAKING if clips is CLIPS else MAKING_HELDOUT
     rows = []
-    for clip in CLIPS:
+    for clip in clips:
         renderer = f"Cycles (CPU), {clip.samples} spp + OIDN denoiser"
         if clip.motion_blur:
             renderer += ", motion blur (shutter 0.5 frame, centred)"
         if clip.post is not None:
-            renderer += "; exposure and white balance in post"
+            renderer += f"; {clip.post_note} in post"
         rows.append(f"| `{clip.name}` | {clip.frames} | {clip.fps} | {clip.what} | {renderer} |")
     (out / "README.md").write_text(
         README.format(
-            blender=bpy.app.version_string,
+            making=making.format(
+                blender=bpy.app.version_string, names=" ".join(c.name for c in clips)
+            ),
             width=WIDTH,
             height=HEIGHT,
             noise=100 * NOISE_SIGMA,

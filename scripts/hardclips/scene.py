@@ -39,6 +39,7 @@ class Clip:
     samples: int = 8  # Cycles samples per pixel (denoised)
     motion_blur: bool = False
     post: Callable | None = None  # post(frame index, seconds, linear RGB (H, W, 3)) -> same
+    post_note: str = "exposure and white balance"  # what post does, for the README
 
     def keyframe(self, target, channels):
         """Keyframe ``{(data path, index): [(seconds, value), ...]}`` on ``target``."""
