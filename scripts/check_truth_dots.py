@@ -7,8 +7,11 @@ image with the lattice positions in the truth (visible points off the sheet's ed
 
     .venv/bin/python scripts/check_truth_dots.py [--only NAME ...]
 
-Prints, per clip and frame, the mean offset (centroid minus truth) and the median and 90th
-percentile distance in pixels: about 0.1 px where the sheet is flat and well lit; dots that are
+(the held-out clips of ``hardclips/heldout.py`` only when named with ``--only``).
+
+Prints, per clip and frame, the mean offset (centroid minus truth), the median and 90th
+percentile distance in pixels, and how many dots show where the truth says a point is hidden
+(should be none): about 0.1 px where the sheet is flat and well lit; dots that are
 strongly foreshortened, shaded unevenly or smeared by motion blur give less exact centroids.
 Writes nothing but temporary renders. Takes a few seconds per frame (one core).
 """
@@ -19,7 +22,7 @@ from pathlib import Path
 
 import cv2
 import numpy as np
-from hardclips import scenarios  # first: it pins the process to one core before bpy starts
+from hardclips import heldout, scenarios  # first: hardclips pins one core before bpy starts
 from hardclips.scene import new_scene
 from hardclips.truth import lattice_truth
 
@@ -35,6 +38,11 @@ FRAMES = {  # frames to render per clip: at rest and deformed
     "lighting_drift": (110,),
     "fast_8fps": (20, 30),
     "crumple": (45,),
+}
+HELDOUT_FRAMES = {
+    "handheld_zoom": (31, 50, 67),  # scale 1.4x, rolled, 0.7x
+    "occluded_exit": (40, 80),  # a third out of the frame; the hand over it
+    "glossy_fast_twist": (20, 33),  # motion blur, before and after the exposure step
 }
 
 
@@ -76,12 +84,13 @@ def dot_centroids(image, threshold=0.3):
 def check(clip, folder):
     scene = new_scene(clip, draft=False)
     sheet = clip.build(np.random.default_rng(0), clip)
-    scene.frame_end = max(FRAMES[clip.name]) + 1
+    frames = {**FRAMES, **HELDOUT_FRAMES}[clip.name]
+    scene.frame_end = max(frames) + 1
     lattice, visible = lattice_truth(scene, sheet)
     settings = scene.render.image_settings
     settings.media_type, settings.file_format = "IMAGE", "PNG"
     settings.color_mode, settings.color_depth = "RGB", "16"
-    for frame in FRAMES[clip.name]:
+    for frame in frames:
         scene.frame_set(frame + 1)
         scene.render.filepath = str(folder / f"{clip.name}_{frame}.png")
         bpy.ops.render.render(write_still=True)
@@ -94,22 +103,29 @@ def check(clip, folder):
         matched = distance.min(axis=1) < 2.0
         error = found[matched] - truth[distance.argmin(axis=1)[matched]]
         size = np.linalg.norm(error, axis=1)
+        # Dots where the truth says a point is hidden (behind something, or turned away).
+        hidden = lattice[frame][~visible[frame]]
+        near = np.linalg.norm(found[~matched, None] - hidden[None], axis=-1) < 2.0
         print(
             f"{clip.name:15s} frame {frame:3d}: {matched.sum():3d} of {len(truth)} visible inner"
             f" points found; offset ({error[:, 0].mean():+.3f}, {error[:, 1].mean():+.3f}) px,"
-            f" median {np.median(size):.3f} px, 90 % {np.percentile(size, 90):.3f} px",
+            f" median {np.median(size):.3f} px, 90 % {np.percentile(size, 90):.3f} px;"
+            f" {near.any(axis=1).sum()} dots seen at the {len(hidden)} hidden points",
             flush=True,
         )
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--only", nargs="+", choices=list(FRAMES), help="check these clips")
+    parser.add_argument(
+        "--only", nargs="+", choices=[*FRAMES, *HELDOUT_FRAMES], help="check these clips"
+    )
     args = parser.parse_args()
     scenarios.add_sheet = dotted_sheet(scenarios.add_sheet)  # what the builders call
+    heldout.add_sheet = dotted_sheet(heldout.add_sheet)
     with tempfile.TemporaryDirectory(prefix="truth_dots_") as folder:
-        for clip in scenarios.CLIPS:
-            if args.only is None or clip.name in args.only:
+        for clip in scenarios.CLIPS + heldout.HELDOUT:
+            if (clip.name in FRAMES) if args.only is None else (clip.name in args.only):
                 check(clip, Path(folder))
 
 
