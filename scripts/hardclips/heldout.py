@@ -1,9 +1,10 @@
 """Held-out hard clips: made to check that the tracker generalises, never to tune it on.
 
 ``HELDOUT`` lists them. ``render_hard_clips.py`` makes them only when asked by name
-(``--only handheld_zoom ...``), never by default, and they belong outside ``samples/``::
+(``--only handheld_zoom ...``), never by default, into ``samples/heldout``, apart from the
+tuned clips of ``samples/hard``::
 
-    .venv/bin/python scripts/render_hard_clips.py --out /tmp/heldout/hard --only NAME ...
+    .venv/bin/python scripts/render_hard_clips.py --out samples/heldout --only NAME ...
 
 Each differs from the tuned clips in its paint (``heldout_textures``) and its motion:
 

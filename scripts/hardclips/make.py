@@ -76,17 +76,20 @@ command makes the same scenes, truth and outlines (about 50 minutes on one CPU c
 
 MAKING_HELDOUT = """# Held-out hard clips
 
-Clips for checking that the tracker generalises: never tune it on these. Rendered with Blender
+Clips for checking that the tracker generalises: never tune it on these. They were rendered
+after the tracker's last change (2026-11-23) and its first run on them is what BENCHMARKS.md
+shows; `python -m voodoo_addon bench --only clips` and the slow clip test in
+`tests/engine/test_robustness.py` run them with the other clips. Rendered with Blender
 {blender} (the `bpy` module, headless) by `scripts/render_hard_clips.py` (scenes in
 `scripts/hardclips/heldout.py`, paint in `scripts/heldout_textures.py`) from a fixed seed, so
 the same command makes the same scenes, truth and outlines; it makes them only when named:
 
-    .venv/bin/python scripts/render_hard_clips.py --out /tmp/heldout/hard --only {names}
+    .venv/bin/python scripts/render_hard_clips.py --out samples/heldout --only {names}
 
 Keep them out of `samples/hard`."""
 
 README = """{making} Check them with
-`.venv/bin/python scripts/check_hard_clips.py` (statistics, and contact sheets in
+`.venv/bin/python scripts/check_hard_clips.py{check_dir}` (statistics, and contact sheets in
 `/tmp/hard_check/`); `.venv/bin/python scripts/check_truth_dots.py` re-renders a few frames
 with dots painted on the lattice points and measures them against the truth.
 
@@ -123,6 +126,7 @@ def write_readme(out, clips=CLIPS):
             making=making.format(
                 blender=bpy.app.version_string, names=" ".join(c.name for c in clips)
             ),
+            check_dir="" if clips is CLIPS else " --dir samples/heldout",
             width=WIDTH,
             height=HEIGHT,
             noise=100 * NOISE_SIGMA,

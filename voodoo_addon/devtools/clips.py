@@ -54,9 +54,13 @@ class Clip:
 
 
 def clip_suite(root: Path = SAMPLES) -> list[Clip]:
-    """The clips under ``root``: ``real/*.mp4`` and ``hard/*.mp4`` with their outlines."""
+    """The clips under ``root`` with their outlines.
+
+    ``real/*.mp4``, ``hard/*.mp4`` and ``heldout/*.mp4`` (rendered after the tracker was
+    tuned, to check that it generalises).
+    """
     clips = []
-    for sub in ("real", "hard"):
+    for sub in ("real", "hard", "heldout"):
         for video in sorted((root / sub).glob("*.mp4")):
             stem = video.with_suffix("")
             outline = next(
