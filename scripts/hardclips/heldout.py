@@ -24,13 +24,12 @@ Each differs from the tuned clips in its paint (``heldout_textures``) and its mo
 import bpy
 
 # isort: split
-import bmesh
 import heldout_textures as paint  # scripts/ is on sys.path when a script runs
 import numpy as np
 from scipy.ndimage import gaussian_filter1d
 
 from hardclips.materials import add_light, studio_lights
-from hardclips.scenarios import add_hand
+from hardclips.scenarios import add_hand, ellipsoids
 from hardclips.scene import LENS_MM, SENSOR_MM, WIDTH, Clip
 from hardclips.sheet import BEND_X_TOWARDS_CAMERA, add_sheet, bend, deform_origin, deg, finish_sheet
 
@@ -94,14 +93,8 @@ def build_handheld_zoom(rng, clip):
 
 def add_arm(hand, length=3.0, radius=0.32):
     """A forearm for ``add_hand``'s hand, reaching down (-Y) from the wrist, as its child."""
-    mesh = bpy.data.meshes.new("Arm")
-    bm = bmesh.new()
-    made = bmesh.ops.create_uvsphere(bm, u_segments=16, v_segments=8, radius=1.0)
     centre, radii = (0.0, -0.4 - length / 2, -0.05), (radius, length / 2, 0.6 * radius)
-    for vert in made["verts"]:
-        vert.co = [c + r * v for c, r, v in zip(centre, radii, vert.co, strict=True)]
-    bm.to_mesh(mesh)
-    bm.free()
+    mesh = ellipsoids("Arm", [(centre, radii)])
     mesh.materials.append(hand.data.materials[0])
     arm = bpy.data.objects.new("Arm", mesh)
     arm.parent = hand

@@ -160,11 +160,9 @@ def build_lighting_drift(rng, clip):
     return finish_sheet(sheet)
 
 
-def add_hand():
-    """A rough hand: a flattened palm and four fingers, seen by the lamps only."""
-    parts = [((0.0, 0.0, 0.0), (0.45, 0.55, 0.15))]
-    parts += [((-0.27 + 0.18 * i, 0.75, 0.0), (0.08, 0.32, 0.07)) for i in range(4)]
-    mesh = bpy.data.meshes.new("Hand")
+def ellipsoids(name, parts):
+    """A mesh of ellipsoids, one per ``(centre, radii)`` in ``parts``."""
+    mesh = bpy.data.meshes.new(name)
     bm = bmesh.new()
     for centre, radii in parts:
         made = bmesh.ops.create_uvsphere(bm, u_segments=16, v_segments=8, radius=1.0)
@@ -172,6 +170,14 @@ def add_hand():
             vert.co = Vector(c + r * v for c, r, v in zip(centre, radii, vert.co, strict=True))
     bm.to_mesh(mesh)
     bm.free()
+    return mesh
+
+
+def add_hand():
+    """A rough hand: a flattened palm and four fingers, seen by the lamps only."""
+    parts = [((0.0, 0.0, 0.0), (0.45, 0.55, 0.15))]
+    parts += [((-0.27 + 0.18 * i, 0.75, 0.0), (0.08, 0.32, 0.07)) for i in range(4)]
+    mesh = ellipsoids("Hand", parts)
     mesh.materials.append(plain_material("Skin", (0.6, 0.4, 0.3, 1)))
     hand = bpy.data.objects.new("Hand", mesh)
     hand.visible_camera = False
