@@ -34,6 +34,13 @@ def run_cli(repo_root, *args, timeout=300):
     )
 
 
+def run_blob(repo_root, d, out, *options):
+    """``blob`` on the fixture's first frame and outline (``d``), writing ``out``."""
+    return run_cli(
+        repo_root, "blob", d / "frame.png", "--contour", d / "contour.json", "--out", out, *options
+    )
+
+
 def assert_clean_failure(proc):
     assert proc.returncode == 2, proc.stderr
     lines = proc.stderr.strip().splitlines()
@@ -57,17 +64,7 @@ def files(tmp_path_factory):
 def test_blob_writes_blob_and_preview(repo_root, files, tmp_path):
     d, _ = files
     out, preview = tmp_path / "b.npz", tmp_path / "p.png"
-    proc = run_cli(
-        repo_root,
-        "blob",
-        d / "frame.png",
-        "--contour",
-        d / "contour.json",
-        "--out",
-        out,
-        "--preview",
-        preview,
-    )
+    proc = run_blob(repo_root, d, out, "--preview", preview)
     assert proc.returncode == 0, proc.stderr
     blob = load_blob(out)
     assert blob.n_modes == 20
@@ -80,21 +77,7 @@ def test_blob_writes_blob_and_preview(repo_root, files, tmp_path):
 def test_blob_options_are_passed_on(repo_root, files, tmp_path):
     d, _ = files
     out = tmp_path / "b.npz"
-    proc = run_cli(
-        repo_root,
-        "blob",
-        d / "frame.png",
-        "--contour",
-        d / "contour.json",
-        "--out",
-        out,
-        "--modes",
-        6,
-        "--poly-degree",
-        0,
-        "--min-angle",
-        30,
-    )
+    proc = run_blob(repo_root, d, out, "--modes", 6, "--poly-degree", 0, "--min-angle", 30)
     assert proc.returncode == 0, proc.stderr
     blob = load_blob(out)
     assert blob.n_modes == 6
@@ -310,17 +293,7 @@ def test_synth_bad_request_exits_2_and_writes_nothing(repo_root, tmp_path, args)
 def test_unknown_preview_extension_exits_2_before_the_blob_is_written(repo_root, files, tmp_path):
     d, _ = files
     out = tmp_path / "b.npz"
-    proc = run_cli(
-        repo_root,
-        "blob",
-        d / "frame.png",
-        "--contour",
-        d / "contour.json",
-        "--out",
-        out,
-        "--preview",
-        tmp_path / "p.xyz",
-    )
+    proc = run_blob(repo_root, d, out, "--preview", tmp_path / "p.xyz")
     assert_clean_failure(proc)
     assert ".xyz" in proc.stderr
     assert not out.exists()
