@@ -37,26 +37,26 @@ def track_klt(frames, nodes, window: int = 21, levels: int = 3):
     vertices : (T, m, 2) float64
     lost : (T,) bool
         More than half of the nodes failed (status 0) in that frame.
-    seconds : float
-        Time spent tracking (grey conversion included), frames after the first.
+    seconds : (T - 1,) float64
+        Time spent tracking each frame after the first (grey conversion included).
     """
     prev = grey8(frames[0])
     pts = np.asarray(nodes, np.float32).reshape(-1, 1, 2)
     out, lost = [np.asarray(nodes, np.float64).copy()], [False]
-    t = 0.0
+    t = []
     for frame in frames[1:]:
         t0 = time.perf_counter()
         cur = grey8(frame)
         new, status, _ = cv2.calcOpticalFlowPyrLK(
             prev, cur, pts, None, winSize=(window, window), maxLevel=levels
         )
-        t += time.perf_counter() - t0
+        t.append(time.perf_counter() - t0)
         ok = status.ravel() > 0
         pts = np.where(ok[:, None, None], new, pts)  # a failed node stays where it was
         out.append(pts.reshape(-1, 2).astype(np.float64))
         lost.append(bool(ok.mean() < 0.5))
         prev = cur
-    return np.array(out), np.array(lost), t
+    return np.array(out), np.array(lost), np.array(t)
 
 
 def track_dis(frames, nodes, preset: int = cv2.DISOPTICAL_FLOW_PRESET_MEDIUM):
@@ -68,7 +68,7 @@ def track_dis(frames, nodes, preset: int = cv2.DISOPTICAL_FLOW_PRESET_MEDIUM):
     prev = grey8(frames[0])
     pts = np.asarray(nodes, np.float64).copy()
     out = [pts.copy()]
-    t = 0.0
+    t = []
     for frame in frames[1:]:
         t0 = time.perf_counter()
         cur = grey8(frame)
@@ -80,8 +80,8 @@ def track_dis(frames, nodes, preset: int = cv2.DISOPTICAL_FLOW_PRESET_MEDIUM):
             cv2.INTER_LINEAR,
             borderMode=cv2.BORDER_REPLICATE,
         ).reshape(-1, 2)
-        t += time.perf_counter() - t0
+        t.append(time.perf_counter() - t0)
         pts = pts + step
         out.append(pts.copy())
         prev = cur
-    return np.array(out), np.zeros(len(out), bool), t
+    return np.array(out), np.zeros(len(out), bool), np.array(t)

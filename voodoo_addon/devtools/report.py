@@ -9,6 +9,9 @@ Parts (``--only`` picks some):
     Real footage and Blender renders tracked side by side with KLT and DIS on the mesh
     nodes: texture consistency (mean, 10th percentile), folded and lost frames, node error
     where the renderer gave the truth, and ours over the better of the two (:mod:`.clips`).
+``live``
+    Per-frame time (median, p95) of the tracker with every robust stage on, on the real
+    footage and the hard clips, beside KLT's on the same frames (:mod:`.livespeed`).
 ``calibration``
     Confidence against true node error on the renders (:mod:`.calibration`).
 ``hd``
@@ -30,7 +33,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-PARTS = ("speed", "clips", "calibration", "hd")
+PARTS = ("speed", "live", "clips", "calibration", "hd")
 THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMEXPR_NUM_THREADS")
 
 
@@ -41,6 +44,10 @@ def measure(parts, quick: bool = False) -> dict:
     report: dict = {"machine": machine(), "date": datetime.date.today().isoformat()}
     if "speed" in parts:
         report["speed"] = run_speed(quick)
+    if "live" in parts:
+        from .livespeed import run_live
+
+        report["live"] = [{k: v for k, v in r.items() if k != "times_ms"} for r in run_live()]
     if "clips" in parts:
         from .clips import clip_suite, ratios, run_clip
 
@@ -100,6 +107,13 @@ def sections(report: dict) -> dict:
         out["speed"] = (
             f"{head} One thread.\n\n```sh\npython -m voodoo_addon bench --only speed\n```\n\n"
             + format_speed(report["speed"])
+        )
+    if "live" in report:
+        from .livespeed import format_live
+
+        out["live"] = (
+            f"{head} One thread.\n\n```sh\npython -m voodoo_addon bench --only live\n```\n\n"
+            + format_live(report["live"])
         )
     if "clips" in report:
         from .clips import format_rows
