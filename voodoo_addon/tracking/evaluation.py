@@ -19,12 +19,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import kernels
 from .level import Level
 from .norms import RobustNorm
 from .params import ParamLayout
 from .warp import WarpBackend
 
-_ONES3 = np.ones(3, dtype=np.float32)
 #: Once the fit is good (the median lighting patch correlates with the template above
 #: :data:`ALIGNED_CORRELATION`), a patch that correlates below :data:`OCCLUDED_CORRELATION`
 #: is covered by something.
@@ -39,6 +39,7 @@ MAX_OCCLUDED = 0.5
 #: Per-channel robust error at which the compared residual saturates: the Lorentzian's value
 #: at three sigma (an error that large counts the same, however large).
 LOSS_CAP = float(np.log1p(4.5))
+_ONES3 = np.ones(3, dtype=np.float32)
 
 
 @dataclass
@@ -86,14 +87,6 @@ class Evaluation:
         if not self.weighted:
             return 0.0
         return 1.0 - float(np.count_nonzero(self.use)) / len(self.use)
-
-
-def _robust(norm: RobustNorm, d: np.ndarray):
-    """Eq. 16 ``dbar = sign(d) sqrt(rho(d))`` and the per-pixel loss ``sum_c rho``."""
-    rho = norm.rho(d)
-    dbar = np.sqrt(rho)
-    np.copysign(dbar, d, out=dbar)
-    return dbar, rho @ _ONES3  # summed over channels (faster than .sum(axis=1))
 
 
 def evaluate(
@@ -155,18 +148,12 @@ def evaluate(
         if np.count_nonzero(valid) < 0.15 * n:
             return None
     samples = backend.sample(level.geometry, nodes - origin, pos)
-    d = _difference(level, layout, a, samples, template)
-    patches = level.patches
     valid_all = valid is None
     if valid_all:
         valid = level.all_valid
     mask = valid if hidden is None else valid & ~hidden[level.triangle]
-    correlation = None
-    if patches is not None:
-        d, correlation = patches.project(
-            d, None if mask is level.all_valid else mask, correlate=occluded is None
-        )
-    dbar, loss = _robust(norm, d)
+    compare = _Comparison(level, layout, norm, a, samples, template)
+    compare(mask, correlate=occluded is None)
 
     nt = level.n_triangles
     size = level.triangle_size
@@ -182,13 +169,12 @@ def evaluate(
     detected = None
     if occluded is not None:
         weight[occluded] = 0.0
-    elif level.finest and seen.any() and _aligned(correlation):
-        r_tri = np.bincount(level.triangle, weights=loss * mask, minlength=nt)
-        r_tri /= np.maximum(count, 1.0)
+    elif level.finest and seen.any() and _aligned(compare.correlation):
+        r_tri = compare.triangle_loss / np.maximum(count, 1.0)
         limit = outlier_factor * max(float(np.median(r_tri[seen])), floor)
         out = seen & (r_tri > limit)
-        if correlation is not None:
-            low = np.nan_to_num(correlation, nan=1.0) < OCCLUDED_CORRELATION
+        if compare.correlation is not None:
+            low = np.nan_to_num(compare.correlation, nan=1.0) < OCCLUDED_CORRELATION
             out |= seen & low[level.patch_of_triangle]
         if not out.any() or size[out].sum() > MAX_OCCLUDED * size[seen].sum():
             out[:] = False
@@ -196,38 +182,74 @@ def evaluate(
         detected = out
     if not weight[size > 0].all():
         use = use & (weight[level.triangle] > 0)
-    if use is not mask and patches is not None:
+    if use is not mask and level.patches is not None:
         # The lighting of the patches that lost pixels is fitted again without them.
-        d, _ = patches.project(_difference(level, layout, a, samples, template), use)
-        dbar, loss = _robust(norm, d)
+        compare(use, correlate=False)
     weighted = use is not level.all_valid
     if weighted and np.count_nonzero(use) < 0.05 * n:
         return None
     # The error that iterations compare: a capped loss over every pixel that can be seen,
     # whichever of them the solve uses, so that estimates stay comparable while pixels
     # come and go.
-    capped = np.minimum(loss, LOSS_CAP * _ONES3.sum())
-    residual = float(capped.mean() if mask is level.all_valid else capped[mask].mean())
-    return Evaluation(samples, dbar, valid, use, weight, residual, weighted, detected, hidden, d)
+    n_mask = n if mask is level.all_valid else np.count_nonzero(mask)
+    residual = compare.capped / max(n_mask, 1)
+    return Evaluation(
+        samples,
+        compare.dbar,
+        valid,
+        use,
+        weight,
+        residual,
+        weighted,
+        detected,
+        hidden,
+        compare.diff,
+    )
 
 
-def _difference(level: Level, layout: ParamLayout, a, samples, template=None):
-    """``I0 - (S - b) / c``: template minus frame with the global lighting undone (Eq. 4).
+class _Comparison:
+    """Template against the sampled frame, for a mask of pixels.
 
-    A global lighting within half an 8-bit grey level of none is not undone.
+    The difference with the lighting removed, its Eq. 16 robust values and the per-pixel
+    loss (:mod:`.kernels`). Calling it again with another mask refits the lighting patches
+    on that mask.
     """
-    t = level.template if template is None else template
-    if layout.photometric == "none":
-        return t - samples
-    b = a[layout.brightness]
-    c = np.exp(a[layout.contrast])
-    if np.abs(c - 1.0).max() < LIGHTING_EPS and np.abs(b).max() < LIGHTING_EPS:
-        return t - samples
-    inv_c = (1.0 / c).astype(np.float32)
-    d = np.multiply(samples, -inv_c)
-    d += t
-    d += (b * inv_c).astype(np.float32)
-    return d
+
+    def __init__(self, level: Level, layout: ParamLayout, norm: RobustNorm, a, samples, template):
+        self.level = level
+        self.norm = norm
+        self.samples = samples
+        self.template = level.template if template is None else template
+        gain, bias = np.ones(3, np.float32), np.zeros(3, np.float32)
+        if layout.photometric != "none":
+            b = np.broadcast_to(a[layout.brightness], 3)
+            c = np.exp(np.broadcast_to(a[layout.contrast], 3))
+            # A global lighting within half an 8-bit grey level of none is not undone.
+            if np.abs(c - 1.0).max() >= LIGHTING_EPS or np.abs(b).max() >= LIGHTING_EPS:
+                gain, bias = (1.0 / c).astype(np.float32), (b / c).astype(np.float32)
+        self.gain, self.bias = gain, bias
+        n = len(samples)
+        self.diff = np.empty((n, 3), np.float32)
+        self.triangle_loss = np.empty(level.n_triangles)
+        self.correlation = None
+        self.capped = 0.0
+
+    def __call__(self, mask: np.ndarray, correlate: bool) -> None:
+        level = self.level
+        kernels.difference(self.samples, self.template, self.gain, self.bias, self.diff)
+        if level.patches is not None:
+            correlation = level.patches.project(self.diff, mask, out=self.diff)[1]
+            if correlate:
+                self.correlation = correlation
+        # Eq. 16 in NumPy: its vectorised log and square root are several times faster
+        # than a compiled scalar loop's.
+        rho = self.norm.rho(self.diff)
+        self.dbar = np.sqrt(rho)
+        np.copysign(self.dbar, self.diff, out=self.dbar)
+        self.loss = rho @ _ONES3  # summed over channels (faster than .sum(axis=1))
+        self.capped = kernels.masked_loss(
+            self.loss, mask, level.triangle, 3 * LOSS_CAP, self.triangle_loss
+        )
 
 
 def _aligned(correlation) -> bool:

@@ -9,13 +9,13 @@ from __future__ import annotations
 
 import cv2
 import numpy as np
-import scipy.sparse
 
 from ..blob.mesh import TriMesh, rasterize
 from ..blob.model import ActiveBlob
+from . import kernels
 from .params import ParamLayout, node_positions
 from .photometry import Patches, group_triangles
-from .warp import REMAP_ROW, WarpBackend, WarpGeometry
+from .warp import WarpBackend, WarpGeometry, padded
 
 #: Parameter steps at every level: translations and modes move the blob by one level pixel
 #: (RMS), rotation and log-scale move its RMS radius by one level pixel; photometric steps are
@@ -96,18 +96,11 @@ class Level:
         self.template = np.ascontiguousarray(tex[local[:, 1], local[:, 0]])  # (n, 3) float32
         self.patches = None if patch is None else Patches(patch, self.template)
         # Pixel positions follow the warped nodes barycentrically (the warp is piecewise
-        # affine), so they are one sparse product S @ nodes, S (n_pad, m) holding each pixel's
-        # three weights. Padded to whole remap rows.
+        # affine): each pixel's three corners and weights. Padded to whole remap rows.
         n = len(coords)
-        self.n_pad = n if n <= REMAP_ROW else -(-n // REMAP_ROW) * REMAP_ROW
-        self.bary = scipy.sparse.csr_matrix(
-            (
-                weights.ravel().astype(np.float32),
-                blob.triangles[tri].ravel(),
-                np.r_[np.arange(0, 3 * n + 1, 3), np.full(self.n_pad - n, 3 * n)],
-            ),
-            shape=(self.n_pad, len(self.vertices)),
-        )
+        self.n_pad = padded(n)
+        self.corners = np.ascontiguousarray(blob.triangles[tri], dtype=np.int32)  # (n, 3)
+        self.weights = np.ascontiguousarray(weights, dtype=np.float32)  # (n, 3)
         self.all_valid = np.ones(n, dtype=bool)  # shared "every pixel is usable" mask
         # Triangles are the units of visibility: hidden (compressed by foreshortening),
         # occluded (outlying error) or off the picture, their pixels leave the solve.
@@ -122,14 +115,16 @@ class Level:
 
     # ------------------------------------------------------------------ warping
 
-    def positions(self, a: np.ndarray, nodes: np.ndarray | None = None) -> np.ndarray:
-        """Template pixels under the warp ``a``, level coordinates.
+    def positions(self, a: np.ndarray, nodes: np.ndarray | None = None, origin=(0.0, 0.0)):
+        """Template pixels under the warp ``a``, level coordinates less ``origin``.
 
         Parameters
         ----------
         a : (P,) float64
         nodes : (m, 2) float64, optional
             ``self.nodes(a)`` when the caller has it already.
+        origin : (2,) float
+            Subtracted from every position (the picture's top-left corner).
 
         Returns
         -------
@@ -139,10 +134,11 @@ class Level:
         """
         if nodes is None:
             nodes = self.nodes(a)
-        n32 = nodes.astype(np.float32)
         out = np.empty((2, self.n_pad), np.float32)
-        out[0] = self.bary @ n32[:, 0]  # two matrix-vector products: half the time of one
-        out[1] = self.bary @ n32[:, 1]  # matrix-matrix product and its transpose
+        nodes = np.ascontiguousarray(nodes, dtype=np.float64)
+        kernels.positions(
+            self.corners, self.weights, nodes, float(origin[0]), float(origin[1]), out
+        )
         return out
 
     def nodes(self, a: np.ndarray) -> np.ndarray:
@@ -199,7 +195,7 @@ class Level:
                 else:
                     a = lay.identity()
                     a[k] = -step  # the frame moved by +step looks like the template moved back
-                    pos = self.positions(a) - self.texture_origin.astype(np.float32)[:, None]
+                    pos = self.positions(a, origin=self.texture_origin)
                     nodes = self.nodes(a) - self.texture_origin
                     diff = i0 - backend.sample(self.geometry, nodes, pos)
                 b[:, col] = diff.ravel()

@@ -18,8 +18,8 @@ values are a closed form, so they are *projected out* (variable projection, Golu
 1973; the illumination subspace of Hager & Belhumeur 1998). Within each patch the
 difference image, and every column of the difference basis, lose their mean and their
 component along the template's own variation; what is left is what no lighting change can
-explain -- misalignment, occlusion, highlights. Pixels are stored patch by patch, so every
-patch sum is one ``np.add.reduceat``.
+explain -- misalignment, occlusion, highlights. Pixels are stored patch by patch, so the
+projection of a difference image is one pass per patch (:func:`.kernels.project`).
 
 The same sums give each patch's correlation with the template: a patch that a lighting
 change cannot make look like the template (a hand over it, a flat card) correlates poorly,
@@ -30,7 +30,8 @@ as a patch whose gain fell to zero.
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse
+
+from . import kernels
 
 #: A patch gathers triangles until it holds about this many of the level's pixels...
 PATCH_PIXELS = 48
@@ -122,34 +123,9 @@ class Patches:
         per_value = self.energy / self.count
         #: Patches with enough texture for their correlation to mean something.
         self.textured = per_value >= 0.1 * float(np.median(per_value))
-        # The unmasked projection as sparse products over the flattened (n * c) values:
-        # coef = A d gives each patch's mean and gain, d - C coef removes them, and
-        # S d^2 sums the squares per patch (for the correlation).
-        n, c = t.shape
-        g = len(self.starts)
-        of_value = np.repeat(np.repeat(np.arange(g), self._repeat), c)  # (n * c,)
-        cols = np.arange(n * c)
-        dev = self.dev.ravel()
-        self._coef = scipy.sparse.csr_matrix(
-            (
-                np.r_[1.0 / self.count[of_value], dev / self._energy[of_value]],
-                (np.r_[2 * of_value, 2 * of_value + 1], np.r_[cols, cols]),
-            ),
-            shape=(2 * g, n * c),
-            dtype=np.float32,
-        )
-        self._back = scipy.sparse.csr_matrix(
-            (
-                np.r_[np.ones(n * c), dev],
-                (np.r_[cols, cols], np.r_[2 * of_value, 2 * of_value + 1]),
-            ),
-            shape=(n * c, 2 * g),
-            dtype=np.float32,
-        )
-        self._template_flat = t.astype(np.float32).ravel()
-        self._squares = scipy.sparse.csr_matrix(
-            (np.ones(n * c), (of_value, cols)), shape=(g, n * c), dtype=np.float32
-        )
+        self._bounds = np.r_[self.starts, len(patch)].astype(np.int64)
+        self._template32 = np.ascontiguousarray(t, dtype=np.float32)
+        self._everything = np.ones(len(patch), dtype=bool)
 
     def __len__(self) -> int:
         return len(self.starts)
@@ -170,7 +146,7 @@ class Patches:
         along = self._sum(x * dev) / self._energy[:, None]
         return x - self._spread(mean) - dev * self._spread(along)
 
-    def project(self, d: np.ndarray, mask: np.ndarray | None = None, correlate: bool = True):
+    def project(self, d: np.ndarray, mask: np.ndarray | None = None, out=None):
         """The difference image ``d = template - frame`` (n, c) without each patch's lighting.
 
         Parameters
@@ -178,8 +154,8 @@ class Patches:
         d : (n, c) float32
         mask : (n,) bool, optional
             Fit the lighting on these pixels only (the rest come out zero).
-        correlate : bool
-            Also give the correlations (else None).
+        out : (n, c) float32, optional
+            Where to write the result (may be ``d`` itself).
 
         Returns
         -------
@@ -188,46 +164,11 @@ class Patches:
             Each patch's correlation of frame and template (NaN where the patch has no
             pixel in the mask or too little texture).
         """
-        flat = d.ravel()
-        if mask is None:
-            coef = self._coef @ flat  # (2G,): mean, then gain, of every patch
-            projected = (flat - self._back @ coef).reshape(d.shape)
-            if not correlate:
-                return projected, None
-            mean, along = coef[0::2].astype(np.float64), coef[1::2].astype(np.float64)
-            energy = self.energy
-            s_xt = along * energy
-            s_xx = (self._squares @ (flat * flat)) - self.count * mean * mean
-            return projected, self._correlation(energy, s_xt, s_xx)
-        # Fitted on the masked values only: per-patch moments of the mask, d and t.
-        m = np.repeat(mask.astype(np.float32), self.channels)
-        t = self._template_flat
-        md, mt = m * flat, m * t
-        sq = self._squares
-        s1 = np.maximum(sq @ m, 1.0).astype(np.float64)
-        sd, st = (sq @ md).astype(np.float64), (sq @ mt).astype(np.float64)
-        std = (sq @ (mt * flat)).astype(np.float64)
-        stt = (sq @ (mt * t)).astype(np.float64)
-        sdd = (sq @ (md * flat)).astype(np.float64)
-        mean_d, mean_t = sd / s1, st / s1
-        energy = np.maximum(stt - st * mean_t, 0.0)
-        s_xt = std - st * mean_d
-        s_xx = np.maximum(sdd - sd * mean_d, 0.0)
-        along = s_xt / (energy + 1e-12)
-        g = np.repeat(np.arange(len(self.starts)), self._repeat * self.channels)
-        centred = (
-            flat
-            - mean_d[g].astype(np.float32)
-            - along[g].astype(np.float32) * (t - mean_t[g].astype(np.float32))
-        )
-        return (centred * m).reshape(d.shape), self._correlation(energy, s_xt, s_xx)
-
-    def _correlation(self, energy, s_xt, s_xx) -> np.ndarray:
-        """Frame-template correlation per patch from the sums of the centred difference.
-
-        With ``s = t - d``: ``sum(s~ t~) = E - S_xt`` and ``sum(s~^2) = E - 2 S_xt + S_xx``.
-        """
-        cov = energy - s_xt
-        den = np.sqrt(energy * np.maximum(energy - 2.0 * s_xt + s_xx, 0.0))
-        ok = self.textured & (den > 1e-12)
-        return np.divide(cov, den, out=np.full_like(cov, np.nan), where=ok)
+        if out is None:
+            out = np.array(d, dtype=np.float32, order="C")
+        elif out is not d:
+            out[:] = d
+        mask = self._everything if mask is None else np.ascontiguousarray(mask, dtype=bool)
+        correlation = np.empty(len(self.starts))
+        kernels.project(out, self._template32, self._bounds, mask, self.textured, correlation)
+        return out, correlation

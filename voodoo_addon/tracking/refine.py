@@ -17,13 +17,13 @@ are the modal fit's.
 
 from __future__ import annotations
 
-import cv2
 import numpy as np
 
+from . import kernels
 from .evaluation import Evaluation
 from .folding import FoldGuard
 from .params import ParamLayout, rotation
-from .warp import REMAP_ROW
+from .warp import padded, remap_points
 
 #: Pixels the normal equations are summed over (an even subsample of the level's).
 NORMAL_PIXELS = 6000
@@ -37,24 +37,6 @@ RIDGE = 0.002
 HOLD_POWER = 1.0
 #: Stop when the offsets change by less than this (level-0 pixels RMS over the nodes).
 TOLERANCE = 0.05
-
-
-def sample_gradients(grad_image: np.ndarray, positions: np.ndarray, n: int) -> np.ndarray:
-    """The derivatives (n, 3, 2) at warped template pixels.
-
-    ``positions`` (2, n_pad) as :meth:`Level.positions` gives them, in the picture's pixels.
-    """
-    n_pad = positions.shape[1]
-    cols = min(n_pad, REMAP_ROW)
-    shape = (n_pad // cols, cols)
-    out = cv2.remap(
-        grad_image,
-        positions[0].reshape(shape),
-        positions[1].reshape(shape),
-        interpolation=cv2.INTER_LINEAR,
-        borderMode=cv2.BORDER_REPLICATE,
-    ).reshape(-1, 6)[:n]
-    return out.reshape(n, 2, 3).transpose(0, 2, 1)
 
 
 def hold(confidence: float) -> float:
@@ -110,84 +92,62 @@ class LocalRefiner:
         m = len(level.vertices)
         self.m = m
         # The normal equations are summed over an even subsample of the pixels (a few dozen
-        # per node pin its motion down as well as hundreds do), taken triangle by triangle
-        # so that every triangle's sums are one reduceat.
+        # per node pin its motion down as well as hundreds do).
         step = max(1, len(level) // NORMAL_PIXELS)
-        picked = np.arange(0, len(level), step)
-        picked = picked[np.argsort(level.triangle[picked], kind="stable")]
-        self.pick = picked
-        tri_of = level.triangle[picked]
-        self._starts = np.r_[0, np.nonzero(np.diff(tri_of))[0] + 1]
-        tris = tri_of[self._starts]  # the triangles that have picked pixels
-        corners = level.geometry.triangles[tris]  # (t', 3)
-        w = level.geometry.weights[picked]  # (n', 3)
-        # Products of corner weights, (n', 9): pair (j, k) of the pixel's three corners.
-        self._pair_weights = np.stack(
-            [w[:, j] * w[:, k] for j in range(3) for k in range(3)], 1
-        ).astype(np.float32)
-        self.weights = w
-        # Where each triangle's (pair, entry) sum goes in the (3, m, m) Hessian entries.
-        pair_nodes = np.stack(
-            [corners[:, j] * m + corners[:, k] for j in range(3) for k in range(3)], 1
-        )  # (t', 9)
-        self._bins = (pair_nodes[:, :, None] + np.arange(3) * m * m).ravel()  # (t' * 9 * 3,)
-        self._corners = corners.ravel()  # (t' * 3,)
+        self.pick = np.arange(0, len(level), step, dtype=np.int64)
+        self._corners = np.ascontiguousarray(level.corners[self.pick])
+        self._weights = np.ascontiguousarray(level.weights[self.pick], dtype=np.float64)
+        self._picked = np.ascontiguousarray(level.weights[self.pick])  # float32, for positions
+        self._k = 0.5 / self.sigma**2
         lap = graph_laplacian(m, level.geometry.triangles)
         self.laplacian = np.kron(lap, np.eye(2))  # (2m, 2m), x and y interleaved
 
-    def gradients(self, image: np.ndarray) -> np.ndarray:
-        """The level picture's x and y derivatives, stacked (h, w, 6) float32."""
-        gx = cv2.Sobel(image, cv2.CV_32F, 1, 0, ksize=3, scale=1.0 / 8.0)
-        gy = cv2.Sobel(image, cv2.CV_32F, 0, 1, ksize=3, scale=1.0 / 8.0)
-        return np.ascontiguousarray(np.concatenate([gx, gy], axis=2))
+    def sample_gradients(self, image: np.ndarray, nodes: np.ndarray, origin) -> np.ndarray:
+        """The picture's derivatives (n', 6) at the picked pixels of the mesh on ``nodes``.
+
+        Central differences of bilinear samples one pixel to either side (the picture is
+        blurred like the template already, so they need no smoothing of their own): four
+        samples per pixel instead of filtering the whole picture. ``nodes`` (m, 2) in level
+        pixels, ``origin`` the picture's top-left corner there. Columns: the x derivative of
+        each channel, then the y derivative.
+        """
+        n = len(self.pick)
+        pos = np.empty((2, n), np.float32)
+        kernels.positions(self._corners, self._picked, nodes, *map(float, origin), pos)
+        shifted = np.empty((2, padded(4 * n)), np.float32)
+        shifted[:, : 4 * n] = np.tile(pos, 4)
+        shifted[:, 4 * n :] = pos[:, -1:]
+        shifted[0, :n] += 1.0
+        shifted[0, n : 2 * n] -= 1.0
+        shifted[1, 2 * n : 3 * n] += 1.0
+        shifted[1, 3 * n : 4 * n] -= 1.0
+        s = remap_points(image, shifted)
+        out = np.empty((n, 6), np.float32)
+        np.subtract(s[:n], s[n : 2 * n], out=out[:, :3])
+        np.subtract(s[2 * n : 3 * n], s[3 * n : 4 * n], out=out[:, 3:])
+        out *= np.float32(0.5)
+        return out
 
     def normal_equations(self, ev: Evaluation, grads: np.ndarray):
         """``J^T W J`` (2m, 2m) and ``J^T W r`` (2m,) for the node positions (level pixels).
 
-        ``grads`` (n, 3, 2): the frame's derivatives at the warped template pixels.
+        ``grads`` (n', 6): the frame's derivatives at the picked pixels
+        (:meth:`sample_gradients`); Lorentzian IRLS weights (see
+        :func:`.kernels.normal_equations`).
         """
         m = self.m
-        d = ev.difference[self.pick]  # (n', 3): template - frame
-        w = 1.0 / (1.0 + d * d * np.float32(0.5 / self.sigma**2))  # Lorentzian IRLS weights
-        w *= ev.use[self.pick, None]
-        g = grads[self.pick]  # (n', 3, 2)
-        gx = np.ascontiguousarray(g[:, :, 0])
-        gy = np.ascontiguousarray(g[:, :, 1])
-        wgx, wgy = w * gx, w * gy
-        entries = np.stack(  # (n', 3): the pixel's xx, xy, yy curvature
-            [
-                np.einsum("nc,nc->n", wgx, gx),
-                np.einsum("nc,nc->n", wgx, gy),
-                np.einsum("nc,nc->n", wgy, gy),
-            ],
-            axis=1,
-        )
-        rx = np.einsum("nc,nc->n", wgx, d).astype(np.float64)  # r = t - s, dr/dx = -g
-        ry = np.einsum("nc,nc->n", wgy, d).astype(np.float64)
-        # Per triangle: sum over its pixels of (corner-pair weight) x (entry): (t', 9, 3).
-        pw = self._pair_weights
-        per_tri = np.stack(
-            [np.add.reduceat(pw * entries[:, e : e + 1], self._starts, axis=0) for e in range(3)],
-            axis=2,
-        )
-        acc = np.bincount(self._bins, weights=per_tri.ravel(), minlength=3 * m * m)
-        acc = acc.reshape(3, m, m)
         hess = np.empty((m, 2, m, 2))
-        hess[:, 0, :, 0] = acc[0]
-        hess[:, 0, :, 1] = acc[1]
-        hess[:, 1, :, 0] = acc[1]
-        hess[:, 1, :, 1] = acc[2]
-        # The right-hand side the same way: per triangle and corner, then per node.
-        bw = self.weights
-        rhs = np.add.reduceat(
-            np.concatenate([bw * rx[:, None], bw * ry[:, None]], axis=1), self._starts, axis=0
-        )  # (t', 6): x for the three corners, then y
-        grad = np.stack(
-            [
-                np.bincount(self._corners, weights=rhs[:, :3].ravel(), minlength=m),
-                np.bincount(self._corners, weights=rhs[:, 3:].ravel(), minlength=m),
-            ],
-            axis=1,
+        grad = np.empty((m, 2))
+        kernels.normal_equations(
+            self.pick,
+            ev.difference,
+            ev.use,
+            grads,
+            self._corners,
+            self._weights,
+            self._k,
+            hess,
+            grad,
         )
         return hess.reshape(2 * m, 2 * m), grad.ravel()
 
@@ -215,7 +175,7 @@ class LocalRefiner:
         step, level = self.step_, self.level
         held = hold(confidence)
         org, box = step.bind(images[step.index], origin)
-        grad_image = self.gradients(images[step.index])
+        image = images[step.index]
         bare = self._vertices - self._centre  # the modal shape X - c + Phi a
         if self.layout.n_modes:
             bare = bare + (self._modes @ a[self.layout.modes]).reshape(-1, 2)
@@ -233,8 +193,7 @@ class LocalRefiner:
             if best is not None and ev.residual >= best[1].residual:
                 break
             best = (u, ev)
-            pos = level.positions(a, nodes) - org[:, None]
-            grads = sample_gradients(grad_image, pos, len(level))
+            grads = self.sample_gradients(image, nodes, org)
             du = self.step(ev, grads, a, u, bare + u, held)
             u = u + du
             if np.sqrt((du**2).sum(axis=1).mean()) < TOLERANCE:

@@ -28,6 +28,10 @@ REFINE_MOTION = 12.0
 #: The local stage's offsets are kept only when they raise the confidence by this much:
 #: small gains are mostly the nodes bending to fit noise or motion blur.
 REFINE_GAIN = 0.05
+#: Below this confidence a frame whose points were followed still looks for the template's
+#: features (SIFT, the costliest start); between it and ``propose_below`` the points' start
+#: is enough.
+FEATURES_BELOW = 0.45
 #: The template's least share in the appearance a frame is compared with (see
 #: ``Tracker._adapt``): however far the surface's look has drifted, the first frame keeps
 #: this much say, so that errors cannot pile up unchecked.
@@ -184,15 +188,18 @@ class Tracker:
             seeds = [pred] if np.array_equal(pred, self.state) else [pred, self.state]
             fit = self._fit(frame, seeds, wide=False, checked=True)
         its = fit.iterations
-        # The prediction fits badly: where textured points went since the last frame, then
-        # where the template's features are in this one.
+        # The prediction fits badly: where textured points went since the last frame; then,
+        # if no points could be followed or the fit is still poor, where the template's
+        # features are in this one (the costliest start: a merely mediocre fit, as on a
+        # surface the modes cannot quite follow, does not call for it).
         tried_features = False
         if not was_lost and fit.confidence < opt.propose_below:
-            for propose in (self._motion_start, self._feature_start):
-                if fit.confidence >= opt.propose_below:
-                    break
-                tried_features = propose == self._feature_start
-                guess = propose(frame)
+            guess = self._motion_start(frame)
+            if guess is not None:
+                fit, its = self._better(fit, self._fit(frame, [guess]), its)
+            if fit.confidence < (opt.propose_below if guess is None else FEATURES_BELOW):
+                tried_features = True
+                guess = self._feature_start(frame)
                 if guess is not None:
                     fit, its = self._better(fit, self._fit(frame, [guess]), its)
         # Before giving up: a wide search from the last good pose, then from features.

@@ -96,14 +96,24 @@ class CpuWarp(WarpBackend):
         self._image = image
 
     def sample(self, geometry: WarpGeometry, nodes, positions: np.ndarray) -> np.ndarray:
-        n_pad = positions.shape[1]
-        cols = min(n_pad, REMAP_ROW)
-        shape = (n_pad // cols, cols)
-        out = cv2.remap(
-            self._image,
-            positions[0].reshape(shape),
-            positions[1].reshape(shape),
-            interpolation=cv2.INTER_LINEAR,
-            borderMode=cv2.BORDER_REPLICATE,
-        )
-        return out.reshape(-1, 3)[: len(geometry.coords)]
+        return remap_points(self._image, positions)[: len(geometry.coords)]
+
+
+def padded(n: int) -> int:
+    """Columns of a position array for ``n`` points: whole rows of :data:`REMAP_ROW`."""
+    return n if n <= REMAP_ROW else -(-n // REMAP_ROW) * REMAP_ROW
+
+
+def remap_points(image: np.ndarray, positions: np.ndarray) -> np.ndarray:
+    """Bilinear samples (n_pad, c) of ``image`` at ``positions`` (2, n_pad), border repeated."""
+    n_pad = positions.shape[1]
+    cols = min(n_pad, REMAP_ROW)
+    shape = (n_pad // cols, cols)
+    out = cv2.remap(
+        image,
+        positions[0].reshape(shape),
+        positions[1].reshape(shape),
+        interpolation=cv2.INTER_LINEAR,
+        borderMode=cv2.BORDER_REPLICATE,
+    )
+    return out.reshape(n_pad, -1)

@@ -1,0 +1,87 @@
+"""The compiled per-pixel loops against plain NumPy written from their definitions."""
+
+import numpy as np
+import pytest
+
+from voodoo_addon.tracking import kernels
+
+RNG = np.random.default_rng(7)
+
+
+def test_positions_are_barycentric_combinations_of_the_nodes():
+    nodes = RNG.uniform(0, 100, (12, 2))
+    corners = RNG.integers(0, 12, (50, 3)).astype(np.int32)
+    w = RNG.uniform(0, 1, (50, 3)).astype(np.float32)
+    w /= w.sum(axis=1, keepdims=True)
+    out = np.empty((2, 64), np.float32)
+    kernels.positions(corners, w, nodes, 3.0, -2.0, out)
+    want = np.einsum("nj,njd->nd", w.astype(np.float64), nodes[corners]) - [3.0, -2.0]
+    np.testing.assert_allclose(out[:, :50].T, want, atol=1e-4)
+    np.testing.assert_array_equal(out[:, 50:], np.repeat(out[:, 49:50], 14, axis=1))
+
+
+def test_difference_undoes_the_global_lighting():
+    s = RNG.uniform(0, 1, (40, 3)).astype(np.float32)
+    t = RNG.uniform(0, 1, (40, 3)).astype(np.float32)
+    c, b = np.array([1.2, 0.9, 1.0]), np.array([0.05, -0.02, 0.0])
+    out = np.empty_like(s)
+    kernels.difference(s, t, (1 / c).astype(np.float32), (b / c).astype(np.float32), out)
+    np.testing.assert_allclose(out, t - (s - b) / c, atol=1e-6)
+
+
+@pytest.mark.parametrize("masked", [False, True])
+def test_projection_removes_each_patch_gain_and_bias(masked):
+    starts = np.array([0, 30, 45, 80], np.int64)
+    t = RNG.uniform(0, 1, (80, 3)).astype(np.float32)
+    d = RNG.normal(0, 0.1, (80, 3)).astype(np.float32)
+    mask = RNG.uniform(size=80) > 0.3 if masked else np.ones(80, bool)
+    out, corr = d.copy(), np.empty(3)
+    kernels.project(out, t, starts, mask, np.ones(3, bool), corr)
+    for p in range(3):
+        sl = slice(starts[p], starts[p + 1])
+        m = mask[sl]
+        dd, tt = d[sl][m].astype(np.float64), t[sl][m].astype(np.float64)
+        # least squares d ~ mean + gain * (t - mean_t) over the masked values
+        a = np.stack([np.ones(dd.size), (tt - tt.mean()).ravel()], axis=1)
+        coef = np.linalg.lstsq(a, dd.ravel(), rcond=None)[0]
+        want = dd.ravel() - a @ coef
+        np.testing.assert_allclose(out[sl][m].ravel(), want, atol=1e-5)
+        assert not out[sl][~m].any()
+        s = tt - dd  # the frame, as the correlation sees it
+        want_corr = np.corrcoef((s - s.mean()).ravel(), (tt - tt.mean()).ravel())[0, 1]
+        assert corr[p] == pytest.approx(want_corr, abs=1e-5)
+
+
+def test_masked_loss_sums_per_triangle_and_caps():
+    loss = np.array([0.5, 4.0, 1.0, 2.0], np.float32)
+    mask = np.array([True, True, False, True])
+    tri = np.array([0, 1, 1, 0], np.int64)
+    per = np.empty(2)
+    total = kernels.masked_loss(loss, mask, tri, 3.0, per)
+    np.testing.assert_allclose(per, [2.5, 4.0])
+    assert total == pytest.approx(0.5 + 3.0 + 2.0)
+
+
+def test_normal_equations_match_the_dense_jacobian():
+    m, n = 5, 60
+    corners = RNG.integers(0, m, (n, 3)).astype(np.int32)
+    w = RNG.uniform(0, 1, (n, 3))
+    w /= w.sum(axis=1, keepdims=True)
+    diff = RNG.normal(0, 0.2, (n, 3)).astype(np.float32)
+    grads = RNG.normal(0, 1, (n, 6)).astype(np.float32)
+    use = RNG.uniform(size=n) > 0.2
+    k = 0.5 / 0.15**2
+    hess, rhs = np.empty((m, 2, m, 2)), np.empty((m, 2))
+    pick = np.arange(n, dtype=np.int64)
+    kernels.normal_equations(pick, diff, use, grads, corners, w, k, hess, rhs)
+    # Dense: residual r_ic depends on node j's (x, y) through w_ij * g_ic.
+    jac = np.zeros((n, 3, m, 2))
+    for i in range(n):
+        for j in range(3):
+            jac[i, :, corners[i, j], 0] += w[i, j] * grads[i, :3]
+            jac[i, :, corners[i, j], 1] += w[i, j] * grads[i, 3:]
+    wt = use[:, None] / (1.0 + k * diff.astype(np.float64) ** 2)
+    jf = jac.reshape(n * 3, 2 * m)
+    want = jf.T @ (wt.ravel()[:, None] * jf)
+    np.testing.assert_allclose(hess.reshape(2 * m, 2 * m), want, rtol=1e-5, atol=1e-6)
+    np.testing.assert_allclose(rhs.ravel(), jf.T @ (wt * diff).ravel(), rtol=1e-5, atol=1e-6)

@@ -1,0 +1,188 @@
+"""Compiled per-pixel loops of the tracker: one pass over the pixels where NumPy takes ten.
+
+An evaluation of the warp touches every template pixel several times: place it on the warped
+mesh, sample the frame there, subtract the template with the global lighting undone, fit and
+remove each lighting patch's gain and bias, take the robust value, sum the loss per triangle.
+As NumPy expressions each of those is a sweep over the whole array with its own temporary;
+here each is a loop that reads a pixel once and keeps the sums in registers (Numba, compiled
+ahead of the first frame and cached on disk).
+
+Every kernel has an explicit signature, so it is compiled when this module is imported (or
+loaded from Numba's cache), never in the middle of a take. Shapes and meanings follow the
+NumPy code they replace: :meth:`.level.Level.positions`, :class:`.warp.CpuWarp`,
+:meth:`.photometry.Patches.project`, :func:`.evaluation._robust` and
+:meth:`.refine.LocalRefiner.normal_equations`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+
+_OPTS = {"cache": True, "nogil": True, "boundscheck": False, "error_model": "numpy"}
+
+
+@nb.njit(
+    "void(int32[:, ::1], float32[:, ::1], float64[:, ::1], float64, float64, float32[:, ::1])",
+    **_OPTS,
+)
+def positions(corners, weights, nodes, ox, oy, out):
+    """Template pixels on the warped mesh: ``out[:, i] = sum_j w_ij nodes[c_ij] - origin``.
+
+    corners, weights : (n, 3)
+        Each pixel's triangle corners and barycentric weights.
+    nodes : (m, 2)
+        Warped nodes.
+    out : (2, n_pad)
+        x in row 0, y in row 1; the padding columns (past n) repeat the last pixel.
+    """
+    n = corners.shape[0]
+    for i in range(n):
+        x = 0.0
+        y = 0.0
+        for j in range(3):
+            c = corners[i, j]
+            w = weights[i, j]
+            x += w * nodes[c, 0]
+            y += w * nodes[c, 1]
+        out[0, i] = x - ox
+        out[1, i] = y - oy
+    for i in range(n, out.shape[1]):
+        out[0, i] = out[0, n - 1] if n else 0.0
+        out[1, i] = out[1, n - 1] if n else 0.0
+
+
+@nb.njit(
+    "void(float32[:, ::1], float32[:, ::1], float32[::1], float32[::1], float32[:, ::1])", **_OPTS
+)
+def difference(samples, template, gain, bias, out):
+    """``out = template - (samples * gain - bias)``: the global lighting undone (Eq. 4).
+
+    ``gain = 1 / c`` and ``bias = b / c`` per channel.
+    """
+    n, nc = samples.shape
+    for i in range(n):
+        for ch in range(nc):
+            out[i, ch] = template[i, ch] - (samples[i, ch] * gain[ch] - bias[ch])
+
+
+@nb.njit(
+    "void(float32[:, ::1], float32[:, ::1], int64[::1], boolean[::1], boolean[::1], float64[::1])",
+    **_OPTS,
+)
+def project(diff, template, starts, mask, textured, correlation):
+    """Remove every lighting patch's grey gain and bias from ``diff``, in place.
+
+    Patch ``p`` is the pixels ``starts[p]:starts[p + 1]``; its gain and bias are fitted on
+    the masked pixels (see :mod:`.photometry`), the others come out zero. ``correlation``
+    (G,) receives each patch's correlation of frame and template (NaN where the patch is
+    untextured or has no masked pixel).
+    """
+    nc = diff.shape[1]
+    for p in range(starts.shape[0] - 1):
+        s1 = sd = st = std = stt = sdd = 0.0
+        for i in range(starts[p], starts[p + 1]):
+            if mask[i]:
+                for ch in range(nc):
+                    d = diff[i, ch]
+                    t = template[i, ch]
+                    s1 += 1.0
+                    sd += d
+                    st += t
+                    std += t * d
+                    stt += t * t
+                    sdd += d * d
+        s1 = max(s1, 1.0)
+        mean_d = sd / s1
+        mean_t = st / s1
+        energy = max(stt - st * mean_t, 0.0)
+        s_xt = std - st * mean_d
+        s_xx = max(sdd - sd * mean_d, 0.0)
+        along = s_xt / (energy + 1e-12)
+        # The correlation of frame and template from the centred difference (s = t - d):
+        # sum(s~ t~) = E - S_xt and sum(s~^2) = E - 2 S_xt + S_xx.
+        den = math.sqrt(energy * max(energy - 2.0 * s_xt + s_xx, 0.0))
+        if textured[p] and den > 1e-12:
+            correlation[p] = (energy - s_xt) / den
+        else:
+            correlation[p] = np.nan
+        md = np.float32(mean_d)
+        mt = np.float32(mean_t)
+        al = np.float32(along)
+        for i in range(starts[p], starts[p + 1]):
+            if mask[i]:
+                for ch in range(nc):
+                    diff[i, ch] = diff[i, ch] - md - al * (template[i, ch] - mt)
+            else:
+                for ch in range(nc):
+                    diff[i, ch] = 0.0
+
+
+@nb.njit("float64(float32[::1], boolean[::1], int64[::1], float64, float64[::1])", **_OPTS)
+def masked_loss(loss, mask, triangle, cap, triangle_loss):
+    """Each triangle's loss over the masked pixels, into ``triangle_loss`` (t,).
+
+    Returns the sum over the masked pixels of the loss capped at ``cap``.
+    """
+    for t in range(triangle_loss.shape[0]):
+        triangle_loss[t] = 0.0
+    total = 0.0
+    for i in range(loss.shape[0]):
+        if mask[i]:
+            s = loss[i]
+            triangle_loss[triangle[i]] += s
+            total += min(s, cap)
+    return total
+
+
+@nb.njit(
+    "void(int64[::1], float32[:, ::1], boolean[::1], float32[:, ::1], int32[:, ::1],"
+    " float64[:, ::1], float64, float64[:, :, :, ::1], float64[:, ::1])",
+    **_OPTS,
+)
+def normal_equations(pick, diff, use, gradients, corners, weights, k, hess, rhs):
+    """Gauss-Newton normal equations of the node positions (the local stage, :mod:`.refine`).
+
+    For every picked pixel ``i`` (``pick`` into the level's pixels; the other arrays are
+    indexed by position in ``pick`` except ``diff`` and ``use``): Lorentzian IRLS weights
+    ``w_c = 1 / (1 + k d_c^2)``, the pixel's gradient ``g_c = (gx_c, gy_c)`` and residual
+    ``d_c = template - frame`` give ``J^T W J`` and ``J^T W r`` of its three corners,
+    spread by the barycentric weights.
+
+    gradients : (n', 6) float32
+        The frame's x derivatives of the three channels, then its y derivatives.
+    corners, weights : (n', 3)
+    hess : (m, 2, m, 2), rhs : (m, 2)
+        Zeroed here, then accumulated.
+    """
+    hess[:] = 0.0
+    rhs[:] = 0.0
+    for q in range(pick.shape[0]):
+        i = pick[q]
+        if not use[i]:
+            continue
+        hxx = hxy = hyy = rx = ry = 0.0
+        for ch in range(3):
+            d = diff[i, ch]
+            w = 1.0 / (1.0 + k * d * d)
+            gx = gradients[q, ch]
+            gy = gradients[q, 3 + ch]
+            hxx += w * gx * gx
+            hxy += w * gx * gy
+            hyy += w * gy * gy
+            rx += w * gx * d
+            ry += w * gy * d
+        for a in range(3):
+            ca = corners[q, a]
+            wa = weights[q, a]
+            rhs[ca, 0] += wa * rx
+            rhs[ca, 1] += wa * ry
+            for b in range(3):
+                cb = corners[q, b]
+                wab = wa * weights[q, b]
+                hess[ca, 0, cb, 0] += wab * hxx
+                hess[ca, 0, cb, 1] += wab * hxy
+                hess[ca, 1, cb, 0] += wab * hxy
+                hess[ca, 1, cb, 1] += wab * hyy
