@@ -33,10 +33,13 @@ def test_difference_undoes_the_global_lighting():
 def test_projection_removes_each_patch_gain_and_bias(masked):
     starts = np.array([0, 30, 45, 80], np.int64)
     t = RNG.uniform(0, 1, (80, 3)).astype(np.float32)
-    d = RNG.normal(0, 0.1, (80, 3)).astype(np.float32)
+    target = RNG.uniform(0, 1, (80, 3)).astype(np.float32)  # an adapted appearance
+    s = RNG.uniform(0, 1, (80, 3)).astype(np.float32)
+    gain, bias = np.array([0.8, 1.0, 1.1], np.float32), np.array([0.02, 0.0, -0.01], np.float32)
+    d = target - (s * gain - bias)
     mask = RNG.uniform(size=80) > 0.3 if masked else np.ones(80, bool)
-    out, corr = d.copy(), np.empty(3)
-    kernels.project(out, t, starts, mask, np.ones(3, bool), corr)
+    out, corr = np.empty_like(d), np.empty(3)
+    kernels.project(s, target, gain, bias, t, starts, mask, np.ones(3, bool), out, corr)
     for p in range(3):
         sl = slice(starts[p], starts[p + 1])
         m = mask[sl]
@@ -47,8 +50,8 @@ def test_projection_removes_each_patch_gain_and_bias(masked):
         want = dd.ravel() - a @ coef
         np.testing.assert_allclose(out[sl][m].ravel(), want, atol=1e-5)
         assert not out[sl][~m].any()
-        s = tt - dd  # the frame, as the correlation sees it
-        want_corr = np.corrcoef((s - s.mean()).ravel(), (tt - tt.mean()).ravel())[0, 1]
+        frame = tt - dd  # the frame as the correlation sees it, in the template's terms
+        want_corr = np.corrcoef((frame - frame.mean()).ravel(), (tt - tt.mean()).ravel())[0, 1]
         assert corr[p] == pytest.approx(want_corr, abs=1e-5)
 
 
@@ -85,3 +88,37 @@ def test_normal_equations_match_the_dense_jacobian():
     want = jf.T @ (wt.ravel()[:, None] * jf)
     np.testing.assert_allclose(hess.reshape(2 * m, 2 * m), want, rtol=1e-5, atol=1e-6)
     np.testing.assert_allclose(rhs.ravel(), jf.T @ (wt * diff).ravel(), rtol=1e-5, atol=1e-6)
+
+
+def _bilinear(image, x, y):
+    """Bilinear sample with the border repeated (NumPy, one point)."""
+    h, w = image.shape[:2]
+    x0, y0 = int(np.floor(x)), int(np.floor(y))
+    fx, fy = x - x0, y - y0
+
+    def px(r, c):
+        return image[min(max(r, 0), h - 1), min(max(c, 0), w - 1)].astype(np.float64)
+
+    top = (1 - fx) * px(y0, x0) + fx * px(y0, x0 + 1)
+    bot = (1 - fx) * px(y0 + 1, x0) + fx * px(y0 + 1, x0 + 1)
+    return (1 - fy) * top + fy * bot
+
+
+def test_gradients_are_central_differences_of_bilinear_samples():
+    image = RNG.uniform(0, 1, (20, 30, 3)).astype(np.float32)
+    pos = np.stack([RNG.uniform(-2, 32, 40), RNG.uniform(-2, 22, 40)]).astype(np.float32)
+    out = np.empty((40, 6), np.float32)
+    kernels.gradients(image, pos, out)
+    for i, (x, y) in enumerate(pos.T.astype(np.float64)):
+        gx = 0.5 * (_bilinear(image, x + 1, y) - _bilinear(image, x - 1, y))
+        gy = 0.5 * (_bilinear(image, x, y + 1) - _bilinear(image, x, y - 1))
+        np.testing.assert_allclose(out[i], np.r_[gx, gy], atol=1e-5)
+
+
+def test_a_linear_ramp_has_its_slope_as_gradient():
+    yy, xx = np.mgrid[0:16, 0:16].astype(np.float32)
+    image = np.ascontiguousarray(np.stack([0.01 * xx, 0.02 * yy, 0.01 * xx - 0.03 * yy], -1))
+    pos = np.array([[5.3, 7.9], [4.2, 10.5]], np.float32)
+    out = np.empty((2, 6), np.float32)
+    kernels.gradients(image, pos, out)
+    np.testing.assert_allclose(out, [[0.01, 0, 0.01, 0, 0.02, -0.03]] * 2, atol=1e-6)

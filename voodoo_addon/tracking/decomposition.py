@@ -127,6 +127,21 @@ class DifferenceDecomposition:
     def index(self) -> int:
         return self.level.index
 
+    def on(self, level: Level) -> DifferenceDecomposition:
+        """The same algorithm, with the same settings, on another raster of this level."""
+        return DifferenceDecomposition(
+            level,
+            self.layout,
+            self.backend,
+            self.norm,
+            self.gamma,
+            self.penalties,
+            self.outlier_factor,
+            self.floor,
+            self._nodes,
+            self.guard,
+        )
+
     def solver(self, active) -> Solver:
         """The precomputed solve for ``active`` parameters (cached per set)."""
         key = active.tobytes() if isinstance(active, np.ndarray) else None

@@ -218,7 +218,7 @@ class _Comparison:
     def __init__(self, level: Level, layout: ParamLayout, norm: RobustNorm, a, samples, template):
         self.level = level
         self.norm = norm
-        self.samples = samples
+        self.samples = np.ascontiguousarray(samples, dtype=np.float32)
         self.template = level.template if template is None else template
         gain, bias = np.ones(3, np.float32), np.zeros(3, np.float32)
         if layout.photometric != "none":
@@ -236,20 +236,26 @@ class _Comparison:
 
     def __call__(self, mask: np.ndarray, correlate: bool) -> None:
         level = self.level
-        kernels.difference(self.samples, self.template, self.gain, self.bias, self.diff)
-        if level.patches is not None:
-            correlation = level.patches.project(self.diff, mask, out=self.diff)[1]
+        if level.patches is None:
+            kernels.difference(self.samples, self.template, self.gain, self.bias, self.diff)
+        else:
+            args = (self.template, self.samples, self.gain, self.bias, mask)
+            correlation = level.patches.compare(*args, out=self.diff)[1]
             if correlate:
                 self.correlation = correlation
-        # Eq. 16 in NumPy: its vectorised log and square root are several times faster
-        # than a compiled scalar loop's.
-        rho = self.norm.rho(self.diff)
-        self.dbar = np.sqrt(rho)
-        np.copysign(self.dbar, self.diff, out=self.dbar)
-        self.loss = rho @ _ONES3  # summed over channels (faster than .sum(axis=1))
+        # Eq. 16 in NumPy: its vectorised log is several times faster than a compiled
+        # scalar loop's.
+        self.rho = self.norm.rho(self.diff)
+        self.loss = self.rho @ _ONES3  # summed over channels (faster than .sum(axis=1))
         self.capped = kernels.masked_loss(
             self.loss, mask, level.triangle, 3 * LOSS_CAP, self.triangle_loss
         )
+
+    @property
+    def dbar(self) -> np.ndarray:
+        """Eq. 16 ``sign(d) sqrt(rho(d))`` of the last comparison (n, 3) float32."""
+        out = np.sqrt(self.rho)
+        return np.copysign(out, self.diff, out=out)
 
 
 def _aligned(correlation) -> bool:

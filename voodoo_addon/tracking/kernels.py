@@ -69,16 +69,20 @@ def difference(samples, template, gain, bias, out):
 
 
 @nb.njit(
-    "void(float32[:, ::1], float32[:, ::1], int64[::1], boolean[::1], boolean[::1], float64[::1])",
+    "void(float32[:, ::1], float32[:, ::1], float32[::1], float32[::1], float32[:, ::1],"
+    " int64[::1], boolean[::1], boolean[::1], float32[:, ::1], float64[::1])",
     **_OPTS,
 )
-def project(diff, template, starts, mask, textured, correlation):
-    """Remove every lighting patch's grey gain and bias from ``diff``, in place.
+def project(samples, target, gain, bias, template, starts, mask, textured, diff, correlation):
+    """The difference image with every lighting patch's grey gain and bias removed.
 
-    Patch ``p`` is the pixels ``starts[p]:starts[p + 1]``; its gain and bias are fitted on
-    the masked pixels (see :mod:`.photometry`), the others come out zero. ``correlation``
-    (G,) receives each patch's correlation of frame and template (NaN where the patch is
-    untextured or has no masked pixel).
+    ``diff = target - (samples * gain - bias)`` (:func:`difference`), then for each patch
+    ``p`` -- the pixels ``starts[p]:starts[p + 1]`` -- the gain and bias of ``template``
+    that best explain it on the masked pixels are taken out (see :mod:`.photometry`); the
+    pixels outside the mask come out zero. ``correlation`` (G,) receives each patch's
+    correlation of frame and template (NaN where the patch is untextured or has no masked
+    pixel). ``target`` is what the frame is compared with (the template, or an appearance
+    adapted to recent frames); ``template`` gives the patches' lighting directions.
     """
     nc = diff.shape[1]
     for p in range(starts.shape[0] - 1):
@@ -86,7 +90,8 @@ def project(diff, template, starts, mask, textured, correlation):
         for i in range(starts[p], starts[p + 1]):
             if mask[i]:
                 for ch in range(nc):
-                    d = diff[i, ch]
+                    d = target[i, ch] - (samples[i, ch] * gain[ch] - bias[ch])
+                    diff[i, ch] = d
                     t = template[i, ch]
                     s1 += 1.0
                     sd += d
@@ -186,3 +191,54 @@ def normal_equations(pick, diff, use, gradients, corners, weights, k, hess, rhs)
                 hess[ca, 0, cb, 1] += wab * hxy
                 hess[ca, 1, cb, 0] += wab * hxy
                 hess[ca, 1, cb, 1] += wab * hyy
+
+
+@nb.njit("void(float32[:, :, ::1], float32[:, ::1], float32[:, ::1])", **_OPTS)
+def gradients(image, positions, out):
+    """The picture's derivatives at ``positions`` (2, n).
+
+    Central differences of bilinear samples one pixel to either side, the border repeated
+    beyond the edge. ``out`` (n, 2c): the x derivative of each channel, then the y
+    derivative. The four samples of a point share its fractional weights, so they read
+    twelve pixels.
+    """
+    h, w, nc = image.shape
+    for i in range(out.shape[0]):
+        x = positions[0, i]
+        y = positions[1, i]
+        if not (abs(x) < 1e7 and abs(y) < 1e7):
+            x = np.float32(0.0)
+            y = np.float32(0.0)
+        fx0 = math.floor(x)
+        fy0 = math.floor(y)
+        fx = x - fx0
+        fy = y - fy0
+        x0 = int(fx0)
+        y0 = int(fy0)
+        cm = min(max(x0 - 1, 0), w - 1)
+        c0 = min(max(x0, 0), w - 1)
+        c1 = min(max(x0 + 1, 0), w - 1)
+        c2 = min(max(x0 + 2, 0), w - 1)
+        rm = min(max(y0 - 1, 0), h - 1)
+        r0 = min(max(y0, 0), h - 1)
+        r1 = min(max(y0 + 1, 0), h - 1)
+        r2 = min(max(y0 + 2, 0), h - 1)
+        gx = 1.0 - fx
+        gy = 1.0 - fy
+        for ch in range(nc):
+            # x: B(x + 1, y) - B(x - 1, y) on rows r0, r1
+            top = gx * (image[r0, c1, ch] - image[r0, cm, ch]) + fx * (
+                image[r0, c2, ch] - image[r0, c0, ch]
+            )
+            bot = gx * (image[r1, c1, ch] - image[r1, cm, ch]) + fx * (
+                image[r1, c2, ch] - image[r1, c0, ch]
+            )
+            out[i, ch] = 0.5 * (gy * top + fy * bot)
+            # y: B(x, y + 1) - B(x, y - 1) on columns c0, c1
+            left = gy * (image[r1, c0, ch] - image[rm, c0, ch]) + fy * (
+                image[r2, c0, ch] - image[r0, c0, ch]
+            )
+            right = gy * (image[r1, c1, ch] - image[rm, c1, ch]) + fy * (
+                image[r2, c1, ch] - image[r0, c1, ch]
+            )
+            out[i, nc + ch] = 0.5 * (gx * left + fx * right)

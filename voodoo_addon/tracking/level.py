@@ -7,6 +7,8 @@ the step sizes ``delta`` of the basis and the pixel units change.
 
 from __future__ import annotations
 
+import copy
+
 import cv2
 import numpy as np
 
@@ -112,6 +114,32 @@ class Level:
 
     def __len__(self) -> int:
         return len(self.geometry.coords)
+
+    def every(self, step: int) -> tuple[Level, np.ndarray]:
+        """The level on every ``step``-th of its pixels, and their rows (n',) in this one.
+
+        The pixels stay grouped by lighting patch, so the subset keeps the patches (each
+        with about a ``step``-th of its pixels, and at least its first); the texture, mesh
+        and modes are shared.
+        """
+        rows = np.arange(0, len(self), max(int(step), 1))
+        if self.patches is not None:
+            rows = np.union1d(rows, self.patches.starts)
+        sub = copy.copy(self)
+        g = self.geometry
+        sub.geometry = WarpGeometry(
+            g.vertices, g.triangles, g.coords[rows], g.triangle[rows], g.weights[rows]
+        )
+        sub.template = np.ascontiguousarray(self.template[rows])
+        if self.patches is not None:
+            sub.patches = Patches(self.patches.of_pixel[rows], sub.template)
+        sub.n_pad = padded(len(rows))
+        sub.corners = np.ascontiguousarray(self.corners[rows])
+        sub.weights = np.ascontiguousarray(self.weights[rows])
+        sub.all_valid = np.ones(len(rows), dtype=bool)
+        sub.triangle = np.ascontiguousarray(self.triangle[rows])
+        sub.triangle_size = np.bincount(sub.triangle, minlength=self.n_triangles).astype(np.float64)
+        return sub, rows
 
     # ------------------------------------------------------------------ warping
 

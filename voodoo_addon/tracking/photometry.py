@@ -110,6 +110,7 @@ class Patches:
         patch = np.asarray(patch, np.int64)
         if len(patch) and np.any(np.diff(patch) < 0):
             raise ValueError("pixels must be grouped by patch")
+        self.of_pixel = patch
         self.starts = np.r_[0, np.nonzero(np.diff(patch))[0] + 1].astype(np.int64)
         self._repeat = np.diff(np.r_[self.starts, len(patch)])
         t = np.asarray(template, np.float64)
@@ -119,7 +120,6 @@ class Patches:
         self.dev = t - self._spread(self._sum(t) / self.count)  # (n, c)
         self.energy = self._sum(self.dev * self.dev)  # (G,) sum of squared deviations
         self._energy = self.energy + 1e-12
-        self.dev32 = self.dev.astype(np.float32)
         per_value = self.energy / self.count
         #: Patches with enough texture for their correlation to mean something.
         self.textured = per_value >= 0.1 * float(np.median(per_value))
@@ -146,7 +146,7 @@ class Patches:
         along = self._sum(x * dev) / self._energy[:, None]
         return x - self._spread(mean) - dev * self._spread(along)
 
-    def project(self, d: np.ndarray, mask: np.ndarray | None = None, out=None):
+    def project(self, d: np.ndarray, mask: np.ndarray | None = None):
         """The difference image ``d = template - frame`` (n, c) without each patch's lighting.
 
         Parameters
@@ -154,8 +154,6 @@ class Patches:
         d : (n, c) float32
         mask : (n,) bool, optional
             Fit the lighting on these pixels only (the rest come out zero).
-        out : (n, c) float32, optional
-            Where to write the result (may be ``d`` itself).
 
         Returns
         -------
@@ -164,11 +162,31 @@ class Patches:
             Each patch's correlation of frame and template (NaN where the patch has no
             pixel in the mask or too little texture).
         """
+        d = np.ascontiguousarray(d, dtype=np.float32)
+        one, zero = np.ones(self.channels, np.float32), np.zeros(self.channels, np.float32)
+        return self.compare(d, np.zeros_like(d), one, zero, mask)
+
+    def compare(self, target, samples, gain, bias, mask=None, out=None):
+        """:meth:`project` of ``target - (samples * gain - bias)``, in one pass.
+
+        ``target`` and ``samples`` (n, c) float32, ``gain`` and ``bias`` (c,) float32: the
+        global lighting undone (see :func:`.kernels.project`). ``out`` (n, c) float32
+        receives the projection (a new array by default).
+        """
         if out is None:
-            out = np.array(d, dtype=np.float32, order="C")
-        elif out is not d:
-            out[:] = d
+            out = np.empty(target.shape, np.float32)
         mask = self._everything if mask is None else np.ascontiguousarray(mask, dtype=bool)
         correlation = np.empty(len(self.starts))
-        kernels.project(out, self._template32, self._bounds, mask, self.textured, correlation)
+        kernels.project(
+            samples,
+            target,
+            gain,
+            bias,
+            self._template32,
+            self._bounds,
+            mask,
+            self.textured,
+            out,
+            correlation,
+        )
         return out, correlation

@@ -28,8 +28,11 @@ MIN_POINTS = 8
 FB_ERROR = 1.5
 #: Points followed from frame to frame.
 MAX_POINTS = 160
-#: Features are searched for in at most this many pixels along the longer side.
+#: Features are searched for in at most this many pixels along the longer side of the
+#: frame, or of the box around where the blob was (about twice its size, so the blob still
+#: spans half of it).
 SEARCH_SIDE = 400
+NEAR_SIDE = 240
 
 
 def grey8(image: np.ndarray) -> np.ndarray:
@@ -280,7 +283,7 @@ class FeatureMatcher:
             frame = frame[y0:y1, x0:x1]
         grey = grey8(frame)
         # SIFT is scale-invariant: a large region is searched at a lower resolution.
-        shrink = min(1.0, SEARCH_SIDE / max(grey.shape))
+        shrink = min(1.0, (SEARCH_SIDE if box is None else NEAR_SIDE) / max(grey.shape))
         if shrink < 1.0:
             grey = cv2.resize(grey, None, fx=shrink, fy=shrink, interpolation=cv2.INTER_AREA)
         kp, desc = self._detector.detectAndCompute(grey, None)

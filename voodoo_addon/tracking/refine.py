@@ -23,7 +23,6 @@ from . import kernels
 from .evaluation import Evaluation
 from .folding import FoldGuard
 from .params import ParamLayout, rotation
-from .warp import padded, remap_points
 
 #: Pixels the normal equations are summed over (an even subsample of the level's).
 NORMAL_PIXELS = 6000
@@ -91,13 +90,16 @@ class LocalRefiner:
         self._modes = blob.modes[:, : layout.n_modes]
         m = len(level.vertices)
         self.m = m
-        # The normal equations are summed over an even subsample of the pixels (a few dozen
-        # per node pin its motion down as well as hundreds do).
-        step = max(1, len(level) // NORMAL_PIXELS)
-        self.pick = np.arange(0, len(level), step, dtype=np.int64)
-        self._corners = np.ascontiguousarray(level.corners[self.pick])
-        self._weights = np.ascontiguousarray(level.weights[self.pick], dtype=np.float64)
-        self._picked = np.ascontiguousarray(level.weights[self.pick])  # float32, for positions
+        # The iterations compare and sum the normal equations on an even subsample of the
+        # pixels (a few dozen per node pin its motion down as well as hundreds do); only the
+        # offsets they settle on are judged on every pixel.
+        sub, self.rows = level.every(len(level) // NORMAL_PIXELS)
+        self.sub_step = step.on(sub)
+        self.pick = np.arange(len(sub), dtype=np.int64)
+        self._corners = sub.corners
+        self._weights = sub.weights.astype(np.float64)
+        self._picked = sub.weights  # float32, for positions
+        self._regulariser = None  # SMOOTH * Laplacian + RIDGE * I, made on first use
         self._k = 0.5 / self.sigma**2
         lap = graph_laplacian(m, level.geometry.triangles)
         self.laplacian = np.kron(lap, np.eye(2))  # (2m, 2m), x and y interleaved
@@ -114,18 +116,8 @@ class LocalRefiner:
         n = len(self.pick)
         pos = np.empty((2, n), np.float32)
         kernels.positions(self._corners, self._picked, nodes, *map(float, origin), pos)
-        shifted = np.empty((2, padded(4 * n)), np.float32)
-        shifted[:, : 4 * n] = np.tile(pos, 4)
-        shifted[:, 4 * n :] = pos[:, -1:]
-        shifted[0, :n] += 1.0
-        shifted[0, n : 2 * n] -= 1.0
-        shifted[1, 2 * n : 3 * n] += 1.0
-        shifted[1, 3 * n : 4 * n] -= 1.0
-        s = remap_points(image, shifted)
-        out = np.empty((n, 6), np.float32)
-        np.subtract(s[:n], s[n : 2 * n], out=out[:, :3])
-        np.subtract(s[2 * n : 3 * n], s[3 * n : 4 * n], out=out[:, 3:])
-        out *= np.float32(0.5)
+        out = np.empty((n, 2 * image.shape[2]), np.float32)
+        kernels.gradients(image, pos, out)
         return out
 
     def normal_equations(self, ev: Evaluation, grads: np.ndarray):
@@ -182,10 +174,16 @@ class LocalRefiner:
         # The offsets carried from the last frame sit on this frame's modal shape: pull them
         # back as far as needed for no triangle to fold there.
         u = self.guard.shape_step(bare, offsets) * offsets
+        sub_template = None if template is None else np.ascontiguousarray(template[self.rows])
         best, occluded = None, None
-        for _ in range(ITERATIONS):
+
+        def compare(u):
             nodes = self._nodes(a, u) * level.scale
-            ev = step.evaluate(a, org, box, nodes, occluded, template=template)
+            ev = self.sub_step.evaluate(a, org, box, nodes, occluded, template=sub_template)
+            return nodes, ev
+
+        for _ in range(ITERATIONS):
+            nodes, ev = compare(u)
             if ev is None:
                 break
             if occluded is None:
@@ -197,14 +195,17 @@ class LocalRefiner:
             du = self.step(ev, grads, a, u, bare + u, held)
             u = u + du
             if np.sqrt((du**2).sum(axis=1).mean()) < TOLERANCE:
-                nodes = self._nodes(a, u) * level.scale
-                ev = step.evaluate(a, org, box, nodes, occluded, template=template)
+                ev = compare(u)[1]
                 if ev is not None and ev.residual < best[1].residual:
                     best = (u, ev)
                 break
         if best is None:
             return None
-        u, ev = best
+        u = best[0]
+        nodes = self._nodes(a, u) * level.scale
+        ev = step.evaluate(a, org, box, nodes, occluded, template=template)
+        if ev is None:
+            return None
         return u, self._quality(ev, a), ev
 
     def step(self, ev: Evaluation, grads, a, offsets, shape, held=1.0) -> np.ndarray:
@@ -223,7 +224,9 @@ class LocalRefiner:
         # Regularisers on the offsets, written for the frame-level node motion
         # dV = s R dU: |L (U + dU)|^2 and |U + dU|^2 become s^-2 terms.
         u_frame = (offsets @ rot.T).ravel() * s
-        reg = held * scale * (SMOOTH * self.laplacian + RIDGE * np.eye(len(hess)))
+        if self._regulariser is None:
+            self._regulariser = SMOOTH * self.laplacian + RIDGE * np.eye(len(hess))
+        reg = (held * scale) * self._regulariser
         lhs = hess + reg
         rhs = grad - reg @ u_frame
         try:
