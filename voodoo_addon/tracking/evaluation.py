@@ -153,7 +153,6 @@ def evaluate(
         valid = level.all_valid
     mask = valid if hidden is None else valid & ~hidden[level.triangle]
     compare = _Comparison(level, layout, norm, a, samples, template)
-    compare(mask, correlate=occluded is None)
 
     nt = level.n_triangles
     size = level.triangle_size
@@ -162,29 +161,34 @@ def evaluate(
     if hidden is not None:
         seen &= ~hidden
     weight = seen.astype(np.float64)
-    use = mask
     # Occlusion only at full resolution and once the fit is close (the typical lighting
     # patch correlates): on coarse levels, or early in the iterations, a triangle that is
     # merely misaligned looks occluded, and dropping it loses the texture that would align it.
     detected = None
     if occluded is not None:
         weight[occluded] = 0.0
-    elif level.finest and seen.any() and _aligned(compare.correlation):
-        r_tri = compare.triangle_loss / np.maximum(count, 1.0)
-        limit = outlier_factor * max(float(np.median(r_tri[seen])), floor)
-        out = seen & (r_tri > limit)
-        if compare.correlation is not None:
-            low = np.nan_to_num(compare.correlation, nan=1.0) < OCCLUDED_CORRELATION
-            out |= seen & low[level.patch_of_triangle]
-        if not out.any() or size[out].sum() > MAX_OCCLUDED * size[seen].sum():
-            out[:] = False
-        weight[out] = 0.0
-        detected = out
-    if not weight[size > 0].all():
-        use = use & (weight[level.triangle] > 0)
-    if use is not mask and level.patches is not None:
-        # The lighting of the patches that lost pixels is fitted again without them.
-        compare(use, correlate=False)
+    if occluded is None and level.finest and seen.any():
+        compare(mask, correlate=True)
+        if _aligned(compare.correlation):
+            r_tri = compare.triangle_loss / np.maximum(count, 1.0)
+            limit = outlier_factor * max(float(np.median(r_tri[seen])), floor)
+            out = seen & (r_tri > limit)
+            if compare.correlation is not None:
+                low = np.nan_to_num(compare.correlation, nan=1.0) < OCCLUDED_CORRELATION
+                out |= seen & low[level.patch_of_triangle]
+            if not out.any() or size[out].sum() > MAX_OCCLUDED * size[seen].sum():
+                out[:] = False
+            weight[out] = 0.0
+            detected = out
+        use = _used(level, mask, weight)
+        if use is not mask and level.patches is not None:
+            # The lighting of the patches that lost pixels is fitted again without them.
+            compare(use, correlate=False)
+    else:
+        use = _used(level, mask, weight)
+        # With lighting patches, the pixels left out are fitted without at once (what
+        # comparing all and then again without them would give).
+        compare(use if level.patches is not None else mask, correlate=False)
     weighted = use is not level.all_valid
     if weighted and np.count_nonzero(use) < 0.05 * n:
         return None
@@ -256,6 +260,13 @@ class _Comparison:
         """Eq. 16 ``sign(d) sqrt(rho(d))`` of the last comparison (n, 3) float32."""
         out = np.sqrt(self.rho)
         return np.copysign(out, self.diff, out=out)
+
+
+def _used(level: Level, mask: np.ndarray, weight: np.ndarray) -> np.ndarray:
+    """The masked pixels of the triangles with weight (``mask`` itself when all have)."""
+    if weight[level.triangle_size > 0].all():
+        return mask
+    return mask & (weight[level.triangle] > 0)
 
 
 def _aligned(correlation) -> bool:

@@ -35,9 +35,11 @@ class Solver:
         ``N (Bbar^T Bbar + Gamma)^-1 Bbar^T``: maps the robust difference image to ``da``.
     prior : (p, p) float64
         ``N (Bbar^T Bbar + Gamma)^-1 gamma' N^T Psi^2``: the regularisation pull on ``a``.
-    jacobian : (3n, p) float32
+    jacobian : (p, 3n) float32
         Difference basis collapsed per parameter (least-squares slope over the four steps),
-        for the weighted solve used when parts of the blob are occluded or off the frame.
+        for the weighted solve used when parts of the blob are occluded or off the frame;
+        stored a parameter per row, so that its product with a difference image reads it
+        in order.
     triangle_gram : (t, p, p) float64
         ``J_k^T J_k`` of the pixels of every triangle.
     penalty : (p, p) float64
@@ -129,7 +131,7 @@ def build_solver(
         active=active,
         update=np.ascontiguousarray(update, dtype=np.float32),
         prior=prior,
-        jacobian=np.ascontiguousarray(jac, dtype=np.float32),
+        jacobian=np.ascontiguousarray(jac.T, dtype=np.float32),
         triangle_gram=tri_gram,
         penalty=penalty,
         reg=gam * psi2,
@@ -162,9 +164,10 @@ def solve(
     gone = np.nonzero((ev.triangle_weight[level.triangle] > 0) & ~ev.use)[0]
     if len(gone):
         rows = (3 * gone[:, None] + np.arange(3)).ravel()
-        jg = solver.jacobian[rows].astype(np.float64)
-        gram = gram - jg.T @ jg
-    rhs = solver.jacobian.T @ (ev.dbar * ev.use[:, None]).ravel()
+        jg = solver.jacobian[:, rows].astype(np.float64)
+        gram = gram - jg @ jg.T
+    dbar = ev.dbar if level.patches is not None else ev.dbar * ev.use[:, None]
+    rhs = solver.jacobian @ dbar.ravel()  # (the patch projection zeroes unused pixels)
     rhs = rhs - solver.reg * a_act
     unseen = 1.0 - ev.triangle_weight
     m = solver.modal
