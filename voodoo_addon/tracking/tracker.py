@@ -32,6 +32,9 @@ REFINE_GAIN = 0.05
 #: features (SIFT, the costliest start); between it and ``propose_below`` the points' start
 #: is enough.
 FEATURES_BELOW = 0.45
+#: A feature start that fits no better than the other starts was futile: the next frames
+#: look for features again only once their fit is worse by this much.
+FUTILE_DROP = 0.02
 #: The template's least share in the appearance a frame is compared with (see
 #: ``Tracker._adapt``): however far the surface's look has drifted, the first frame keeps
 #: this much say, so that errors cannot pile up unchecked.
@@ -152,6 +155,7 @@ class Tracker:
         self._previous = None
         self._offsets = None
         self._template = None
+        self._futile = np.inf
 
     def nodes(self, a: np.ndarray, offsets: np.ndarray | None = None) -> np.ndarray:
         """Mesh nodes (m, 2) in frame pixels for parameters ``a`` (and local offsets)."""
@@ -197,11 +201,16 @@ class Tracker:
             guess = self._motion_start(frame)
             if guess is not None:
                 fit, its = self._better(fit, self._fit(frame, [guess]), its)
-            if fit.confidence < (opt.propose_below if guess is None else FEATURES_BELOW):
+            below = opt.propose_below if guess is None else FEATURES_BELOW
+            if fit.confidence < min(below, self._futile):
                 tried_features = True
                 guess = self._feature_start(frame)
-                if guess is not None:
-                    fit, its = self._better(fit, self._fit(frame, [guess]), its)
+                other = None if guess is None else self._fit(frame, [guess])
+                # Features that found nothing better will not, until the fit gets worse.
+                gained = other is not None and other.confidence > fit.confidence
+                self._futile = np.inf if gained else fit.confidence - FUTILE_DROP
+                if other is not None:
+                    fit, its = self._better(fit, other, its)
         # Before giving up: a wide search from the last good pose, then from features.
         for fallback in (self._wide_start, self._feature_start):
             if fit.confidence >= need or (tried_features and fallback == self._feature_start):
@@ -211,6 +220,8 @@ class Tracker:
                 fit, its = self._better(fit, self._fit(frame, [start2], wide=True), its)
         warnings = []
         conf, visible = fit.confidence, fit.visible
+        if fit.confidence >= opt.propose_below or fit.confidence < need:
+            self._futile = np.inf  # fitting well again, or lost: features may help again
         if fit.confidence >= need:
             conf, visible, ev = self._refine(fit)
             self._adapt(ev, fit.params, conf)
