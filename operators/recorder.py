@@ -6,6 +6,7 @@ file at once (:mod:`voodoo_addon.takes.journal`), so a crash or a killed Blender
 the take: Recover Takes stores it from there.
 """
 
+import time
 from contextlib import ExitStack
 
 import bpy
@@ -13,6 +14,7 @@ import numpy as np
 
 from ..voodoo_addon.errors import VoodooError
 from ..voodoo_addon.media.images import to_uint8_bgr
+from ..voodoo_addon.media.prefetch import PENDING, Prefetcher
 from ..voodoo_addon.media.sources import open_source
 from ..voodoo_addon.takes.journal import SUFFIX, JournalWriter, read_journal
 from ..voodoo_addon.takes.rig import Rig, fit_mapping
@@ -128,7 +130,18 @@ class Recorder:
                 self._prepare_preview()
                 stack.callback(self._drop_preview)
             stack.callback(drawing.live_state.clear)
+            # Last, once nothing can fail: frames are read (and a camera's footage written)
+            # on a second thread from here on, every one of them, however far behind the
+            # tracker falls.
+            write = self._write_footage if self.writer is not None else None
+            self.feed = Prefetcher(self.source, limit=self.max_frames, on_frame=write)
+            stack.callback(self.feed.close)
             self._resources = stack.pop_all()
+        #: Frames tracked per second (recent), and seconds from a frame's arrival to its
+        #: result, for the panel.
+        self.rate = 0.0
+        self.latency = 0.0
+        self._last_tracked = None
 
     def _open_source(self, context, s, max_frames, stack) -> None:
         scene = self.scene
@@ -159,8 +172,11 @@ class Recorder:
 
     # ------------------------------------------------------------------ per frame
 
-    def step(self) -> bool:
+    def step(self, wait: bool | None = None) -> bool:
         """Track the next frame. Returns False when the take is complete.
+
+        ``wait`` for the next frame to arrive; by default a clip's frames are waited for and
+        a camera's are not (the step then tracks nothing and returns True).
 
         A target deleted during the take ends it (the take is kept); a stand-in deleted
         during the take only ends the live preview.
@@ -171,28 +187,67 @@ class Recorder:
             return False
         if self.max_frames is not None and len(self.rows) >= self.max_frames:
             return False
-        frame = self.source.read()
+        # A camera is not waited for (Blender stays responsive); a clip is read ahead.
+        frame = self.feed.read(wait=not self.source.live if wait is None else wait)
+        if frame is PENDING:
+            return True
         if frame is None:
             return False
-        if self.writer is not None:
-            self.writer.write(to_uint8_bgr(frame.pixels))
         res = self.tracker.track(frame.pixels)
+        self._measure()
         f = self._frame_of(frame)
         if self.rows and self.rows[-1][2] == f:  # two camera frames in one scene frame
             self.rows.pop()
         self.rows.append((frame.index, frame.time, f, res))
         self.journal.add(res, frame.index, frame.time, f)
-        drawing.live_state.update(nodes=res.nodes, triangles=self.blob.triangles, lost=res.lost)
-        if self.live:
+        drawing.live_state.update(
+            nodes=res.nodes,
+            triangles=self.blob.triangles,
+            lost=res.lost,
+            rate=self.rate,
+            latency=self.latency,
+            behind=self.behind,
+        )
+        # Behind the camera, the live view skips to the newest frames; the take does not.
+        if self.live and self.behind <= 1:
             self.scene.frame_set(f)
             if self._preview is not None and not res.lost:
                 self._pose(res.params)
         return self.max_frames is None or len(self.rows) < self.max_frames
 
+    def _measure(self) -> None:
+        now = time.monotonic()
+        if self.feed.arrived is not None:
+            self.latency = now - self.feed.arrived
+        if self._last_tracked is not None:
+            dt = max(now - self._last_tracked, 1e-6)
+            self.rate = 1.0 / dt if not self.rate else 0.9 * self.rate + 0.1 / dt
+        self._last_tracked = now
+
+    @property
+    def behind(self) -> int:
+        """Camera frames recorded but not tracked yet (a clip's read-ahead does not count)."""
+        return self.feed.backlog if self.source.live else 0
+
+    @property
+    def recording(self) -> bool:
+        """The source is still being read (frames may still come)."""
+        return self.feed.reading
+
+    def stop_recording(self) -> None:
+        """Read no further frame; the frames read already are still tracked."""
+        self.feed.stop_reading()
+
+    def _write_footage(self, frame) -> None:
+        """Every camera frame goes to the footage as it arrives (on the reading thread)."""
+        self.writer.write(to_uint8_bgr(frame.pixels))
+
     @property
     def progress(self) -> float:
         total = self.max_frames or self.source.count
-        return len(self.rows) / total if total else 0.0
+        if self.source.live and not self.feed.reading:
+            total = len(self.rows) + self.behind  # recording ended: what is left to track
+        return min(len(self.rows) / total, 1.0) if total else 0.0
 
     # ------------------------------------------------------------------ live preview
 
@@ -276,6 +331,12 @@ class Recorder:
 
     def keep(self) -> str | None:
         """Store what was recorded with the blob (no apply); returns the take's name."""
+        left = self.behind
+        if left and self.footage is not None:
+            self.notes.append(
+                f"{left} recorded frame(s) were not tracked (stopped while completing the "
+                f"take); the footage {self.footage.name} holds every frame."
+            )
         self.close()
         if not self.rows:
             self.journal.discard()

@@ -66,6 +66,7 @@ def cmd_track(args) -> int:
     from .blob.build import build_blob
     from .blob.model import load_blob
     from .blob.outline import load_contour_json
+    from .media.prefetch import Prefetcher
     from .media.sources import open_source
     from .takes.take import ProgressBar, missing_frames, save_take, track_source
     from .tracking import Tracker
@@ -83,7 +84,9 @@ def cmd_track(args) -> int:
         tracker = Tracker(blob, frozen=args.freeze or ())
         long_clip = src.count is None or src.count > 30
         bar = ProgressBar(src.count) if long_clip and not args.quiet else None
-        take = track_source(blob, src, tracker, progress=bar, limit=args.frames)
+        # Frames are decoded on a second thread (a second core) while this one tracks.
+        with Prefetcher(src, limit=args.frames) as ahead:
+            take = track_source(blob, ahead, tracker, progress=bar, limit=args.frames)
         short = missing_frames(src, take, args.frames, name=str(args.video))
     save_take(args.out, take)
     if short:

@@ -17,6 +17,22 @@ from ..recorder import Recorder
 
 #: Fastest timer a modal take asks for (Hz).
 MAX_RATE = 120.0
+#: Seconds a timer tick may track for while frames wait (a 30 fps camera's frame time).
+CATCH_UP = 1.0 / 30.0
+
+
+def status_line(rec) -> str:
+    """The header's line during a take: frames, live rate and latency, what Esc does."""
+    text = f"{len(rec.rows)} frames"
+    if rec.rate:
+        text += f", tracking {rec.rate:.0f} fps, latency {1000 * rec.latency:.0f} ms"
+    if rec.behind:
+        text += f", {rec.behind} to catch up"
+    if rec.source.live and rec.recording:
+        return text + " (Esc stops recording; the frames recorded are all tracked)"
+    if rec.source.live and rec.behind:
+        return text + " -- completing the take (Esc keeps what is tracked so far)"
+    return text + " (Esc stops and keeps)"
 
 
 def report_finish(op, info) -> None:
@@ -57,7 +73,7 @@ def run_to_end(op, context, recorder) -> set:
     wm.progress_begin(0, 100)
     bar = ProgressBar(recorder.max_frames or recorder.source.count) if bpy.app.background else None
     try:
-        while recorder.step():
+        while recorder.step(wait=True):
             wm.progress_update(int(100 * recorder.progress))
             if bar is not None:
                 bar(len(recorder.rows))
@@ -95,12 +111,19 @@ class TakeLoop:
         return {"RUNNING_MODAL"}
 
     def modal(self, context, event):
+        rec = self._recorder
         if event.type == "ESC":
+            if rec.source.live and rec.recording:
+                # The camera stops; the frames it gave are still tracked, with progress
+                # (a second Esc keeps what is tracked by then).
+                rec.stop_recording()
+                return {"RUNNING_MODAL"}
             return self._end(context)
         if event.type != "TIMER":
             return {"PASS_THROUGH"}
-        rec = self._recorder
-        until = time.perf_counter() + self.tick_seconds
+        # Behind the camera, a tick tracks for up to a frame's time to catch up.
+        budget = max(self.tick_seconds, CATCH_UP if rec.behind else 0.0)
+        until = time.perf_counter() + budget
         try:
             more = rec.step()
             while more and time.perf_counter() < until:
@@ -112,9 +135,7 @@ class TakeLoop:
         context.window_manager.progress_update(int(100 * rec.progress))
         drawing.tag_redraw(context)
         if context.area is not None:
-            context.area.header_text_set(
-                f"{self.bl_label} {rec.take_name}: {len(rec.rows)} frames (Esc stops and keeps)"
-            )
+            context.area.header_text_set(f"{self.bl_label} {rec.take_name}: {status_line(rec)}")
         return {"RUNNING_MODAL"} if more else self._end(context)
 
     def _end(self, context):

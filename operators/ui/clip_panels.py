@@ -1,5 +1,6 @@
 import bpy
 
+from ..drawing import live_state
 from ..recorder import interrupted_takes
 from ..storage import blob_bytes, blob_meshes, blob_users
 from .mode_list import draw_mode_list
@@ -89,6 +90,12 @@ class VOODOO_PT_record(_ClipPanel, bpy.types.Panel):
         row.prop(s, "freeze_scale", toggle=True)
         layout.operator("voodoo.record_take", icon="REC")
         layout.operator("voodoo.track_clip", icon="TRACKING_FORWARDS")
+        if live_state.get("rate"):
+            text = f"Tracking {live_state['rate']:.0f} fps, latency "
+            text += f"{1000 * live_state['latency']:.0f} ms"
+            if live_state.get("behind"):
+                text += f", {live_state['behind']} behind"
+            layout.label(text=text, icon="TIME")
         if s.last_take:
             row = layout.row()
             row.label(text=f"Last take: {s.last_take}")

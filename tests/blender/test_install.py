@@ -20,7 +20,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 DRIVER = Path(__file__).with_name("installed_extension.py")
-BUNDLED = ("scipy", "cv2", "triangle", "threadpoolctl")
+BUNDLED = ("scipy", "cv2", "triangle", "threadpoolctl", "numba", "llvmlite")
 
 pytestmark = pytest.mark.slow
 
@@ -60,6 +60,8 @@ def test_zip_installs_runs_on_bundled_wheels_and_uninstalls(tmp_path, extension_
         assert Path(seen["files"][name]).resolve().is_relative_to(site_packages.resolve()), name
     # one wheel of each was extracted, the CPython 3.11 one (or the abi3 / pure-Python one)
     assert sorted(seen["wheel_tags"]) == [
+        "llvmlite",
+        "numba",
         "opencv_contrib_python_headless",
         "scipy",
         "threadpoolctl",

@@ -309,6 +309,109 @@ def test_live_camera_take_is_time_stamped_and_saved(
     assert (tmp_path / "voodoo_footage" / f"{info['take']}.avi").exists()
 
 
+def _fast_camera(sub, monkeypatch, frames, fps):
+    """A live source far faster than tracking: a frame every 5 ms, time-stamped as a camera
+    at ``fps`` would, while every frame takes the tracker 15 ms more than it needs."""
+    import time
+
+    engine_sources = sub("voodoo_addon.media.sources")
+    recorder = sub("operators.recorder")
+
+    class FastCamera(engine_sources.ArraySource):
+        live = True
+
+        def read(self):
+            time.sleep(0.005)
+            frame = super().read()
+            if frame is None:
+                return None
+            return engine_sources.Frame(frame.pixels, frame.index, frame.index / fps)
+
+    class SlowTracker(recorder.Tracker):
+        def track(self, frame):
+            time.sleep(0.015)
+            return super().track(frame)
+
+    monkeypatch.setattr(recorder, "open_source", lambda spec: FastCamera(frames, fps=fps))
+    monkeypatch.setattr(recorder, "Tracker", SlowTracker)
+
+
+def test_a_live_take_behind_the_camera_still_tracks_every_frame(
+    prepared, sub, make, clip_file, monkeypatch, tmp_path
+):
+    """The camera delivers frames several times faster than they are tracked: the live view
+    falls behind and skips, the take holds all 60 frames, each tracked, in order."""
+    ctx = prepared
+    _fast_camera(sub, monkeypatch, clip_file["frames"] * 3, fps=30.0)  # 60 frames
+    bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "fast.blend"))
+    s = ctx.scene.voodoo
+    s.source, s.camera_seconds = "CAMERA", 2.0  # 60 frames at 30 fps
+    s.target = make.flat_target(keyed=False)
+    ctx.scene.render.fps = 30
+    ctx.scene.frame_set(1)
+    rec = sub("operators.recorder").Recorder(ctx, live=True)
+    most_behind, shown = 0, set()
+    while rec.step(wait=True):
+        most_behind = max(most_behind, rec.behind)
+        shown.add(ctx.scene.frame_current)
+    info = rec.finish()
+    assert most_behind > 10  # the camera was far ahead of the tracker
+    assert len(shown) < 60  # so the live view skipped frames...
+    assert info["frames"] == 60  # ...and the take did not
+    stored = sub("operators.storage").stored_take(s.blob, info["take"])
+    assert stored.frames.tolist() == list(range(1, 61))
+    assert stored.take.frame_indices.tolist() == list(range(60))
+    assert not stored.take.lost.any() and np.isfinite(stored.take.params).all()
+    assert info["clip"].frame_duration == 60  # and the footage holds every frame
+    assert rec.rate > 0 and rec.latency > 0
+
+
+def test_escape_stops_the_camera_then_tracks_what_it_recorded(
+    prepared, sub, make, clip_file, monkeypatch, tmp_path
+):
+    """Esc while the camera runs ends the recording, not the take: the frames already
+    recorded are tracked on the next ticks (progress shown), then the take is applied; a
+    second Esc while completing keeps what is tracked and says what was not."""
+    from types import SimpleNamespace
+
+    ctx = prepared
+    _fast_camera(sub, monkeypatch, clip_file["frames"] * 3, fps=30.0)
+    bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "esc.blend"))
+    s = ctx.scene.voodoo
+    s.source, s.camera_seconds = "CAMERA", 2.0
+    s.target = make.flat_target(keyed=False)
+    ctx.scene.render.fps = 30  # a scene frame per camera frame
+    timer, esc = SimpleNamespace(type="TIMER"), SimpleNamespace(type="ESC")
+
+    def record_a_while():
+        op, reports = _modal_harness(sub, live=True)
+        rec = op._recorder = sub("operators.recorder").Recorder(ctx, live=True)
+        while len(rec.rows) < 3:
+            assert op.modal(ctx, timer) == {"RUNNING_MODAL"}
+        assert rec.recording
+        assert op.modal(ctx, esc) == {"RUNNING_MODAL"}  # the camera stops...
+        while rec.recording:
+            pass
+        assert rec.behind > 0 and 0.0 < rec.progress < 1.0  # ...frames wait to be tracked
+        return op, rec, reports
+
+    op, rec, reports = record_a_while()
+    recorded = len(rec.rows) + rec.behind
+    assert recorded < 60  # stopped before the end
+    while (out := op.modal(ctx, timer)) == {"RUNNING_MODAL"}:
+        pass
+    assert out == {"FINISHED"}
+    assert len(sub("operators.storage").stored_take(s.blob, s.last_take).take) == recorded
+    assert any("applied as action" in m for _, m in reports)
+    # Esc again while completing: what is tracked is kept, the rest is named
+    s.take_name = "Second"
+    op, rec, reports = record_a_while()
+    left = rec.behind
+    assert op.modal(ctx, esc) == {"FINISHED"}
+    assert len(sub("operators.storage").stored_take(s.blob, "Second").take) == len(rec.rows)
+    assert any(f"{left} recorded frame(s) were not tracked" in m for _, m in reports)
+
+
 def _modal_harness(sub, live, tick_seconds=0.0):
     """The take operators' modal mechanics on a stand-in for the operator instance (the bpy
     module has no event loop to run the real one)."""

@@ -357,3 +357,33 @@ def test_uint8_frames_track_like_float_frames():
 def test_unknown_lighting_model_raises():
     with pytest.raises(VoodooError, match="lighting"):
         Tracker(scenario("translate").blob, options=TrackerOptions(lighting="sunny"))
+
+
+class _CountingMatcher:
+    """Stands in for the SIFT matcher: counts the searches and finds nothing."""
+
+    def __init__(self):
+        self.calls = 0
+
+    def guess(self, frame, near, box=None):
+        self.calls += 1
+
+
+def test_a_futile_feature_search_is_not_repeated_until_the_fit_worsens(monkeypatch):
+    """Features that found nothing better are not sought again on the next frames while the
+    fit stays as good; once it is clearly worse they are sought again."""
+    from voodoo_addon.tracking import tracker as tracker_module
+
+    take = scenario("mixed")
+    monkeypatch.setattr(tracker_module, "FEATURES_BELOW", 1.0)  # every frame "fits poorly"
+    tracker = Tracker(take.blob, options=TrackerOptions(propose_below=1.0))
+    tracker._matcher = matcher = _CountingMatcher()
+    for frame in take.frames:
+        tracker.track(frame)
+    assert 1 <= matcher.calls <= len(take.frames) // 4  # not on every frame
+    before = matcher.calls
+    rng = np.random.default_rng(3)
+    noisy = np.clip(take.frames[-1] + rng.normal(0, 0.3, take.frames[-1].shape), 0, 1)
+    res = tracker.track(noisy.astype(np.float32))  # the same pose, a much worse fit
+    assert not res.lost
+    assert matcher.calls == before + 1

@@ -17,11 +17,22 @@ NumPy code they replace: :meth:`.level.Level.positions`, :class:`.warp.CpuWarp`,
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numba as nb
 import numpy as np
+from numba.core import config as _numba_config
 
 _OPTS = {"cache": True, "nogil": True, "boundscheck": False, "error_model": "numpy"}
+
+# Numba names a function's cache after its file, not after the module it was imported as, and
+# a cache written under one module name does not load under another. This file is imported
+# as ``voodoo_addon.tracking.kernels`` from a checkout and under the extension's package in
+# Blender (``bl_ext.<repo>.voodoo_dolls.voodoo_addon...``), so while its kernels are compiled
+# (at import: every signature is explicit) the cache goes to a folder named after the module.
+# Where that cannot be written, Numba falls back to the user's cache folder.
+_CACHE_DIR = _numba_config.CACHE_DIR
+_numba_config.CACHE_DIR = str(Path(__file__).resolve().parent / "__pycache__" / f"numba-{__name__}")
 
 
 @nb.njit(
@@ -242,3 +253,6 @@ def gradients(image, positions, out):
                 image[r2, c1, ch] - image[r0, c1, ch]
             )
             out[i, nc + ch] = 0.5 * (gx * left + fx * right)
+
+
+_numba_config.CACHE_DIR = _CACHE_DIR  # the kernels are compiled: leave Numba as it was
