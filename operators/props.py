@@ -108,6 +108,21 @@ class VOODOO_PG_settings(bpy.types.PropertyGroup):
 
     # Recording
     take_name: StringProperty(name="Take", default="Take")
+    osc_send: BoolProperty(
+        name="Stream over OSC",
+        description="Send every tracked frame to another program while recording (OSC over UDP)",
+        default=False,
+    )
+    osc_target: StringProperty(
+        name="OSC Target",
+        description="HOST:PORT of the program that receives the stream",
+        default="127.0.0.1:9000",
+    )
+    osc_bundle: BoolProperty(
+        name="Bundles",
+        description="One OSC bundle per frame (off: its messages one by one)",
+        default=True,
+    )
     warp: EnumProperty(
         name="Warp",
         items=[

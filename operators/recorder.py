@@ -16,8 +16,9 @@ from ..voodoo_addon.errors import VoodooError
 from ..voodoo_addon.media.images import to_uint8_bgr
 from ..voodoo_addon.media.prefetch import PENDING, Prefetcher
 from ..voodoo_addon.media.sources import open_source
+from ..voodoo_addon.stream import OscSender
 from ..voodoo_addon.takes.journal import SUFFIX, JournalWriter, read_journal
-from ..voodoo_addon.takes.rig import Rig, fit_mapping
+from ..voodoo_addon.takes.rig import Rig, fit_mapping, unit
 from ..voodoo_addon.takes.take import Take
 from ..voodoo_addon.tracking import Tracker
 from . import drawing
@@ -130,6 +131,9 @@ class Recorder:
                 self._prepare_preview()
                 stack.callback(self._drop_preview)
             stack.callback(drawing.live_state.clear)
+            self.stream = self._open_stream(s)
+            if self.stream is not None:
+                stack.callback(self.stream.close)
             # Last, once nothing can fail: frames are read (and a camera's footage written)
             # on a second thread from here on, every one of them, however far behind the
             # tracker falls.
@@ -200,6 +204,8 @@ class Recorder:
             self.rows.pop()
         self.rows.append((frame.index, frame.time, f, res))
         self.journal.add(res, frame.index, frame.time, f)
+        if self.stream is not None:
+            self._send(frame, res)
         drawing.live_state.update(
             nodes=res.nodes,
             triangles=self.blob.triangles,
@@ -214,6 +220,35 @@ class Recorder:
             if self._preview is not None and not res.lost:
                 self._pose(res.params)
         return self.max_frames is None or len(self.rows) < self.max_frames
+
+    def _open_stream(self, s):
+        """The OSC sender when streaming is on; a bad target is a note, not an error."""
+        if not s.osc_send:
+            return None
+        try:
+            sender = OscSender(s.osc_target, bundle=s.osc_bundle)
+        except VoodooError as exc:
+            self.notes.append(f"{exc} The take was recorded without streaming.")
+            return None
+        lay = self.tracker.layout
+        on = [m for m in s.modes if m.enabled and m.index < lay.n_modes]
+        self._streamed = (
+            [m.name for m in on],
+            np.array([lay.modes.start + m.index for m in on], dtype=np.int64),
+            np.array([m.gain for m in on]) / unit(self.blob),
+        )
+        return sender
+
+    def _send(self, frame, res) -> None:
+        """One tracked frame to the stream: the modes that apply, as shape-key values
+        times their gains.
+        """
+        names, cols, scale = self._streamed
+        values = dict(zip(names, (res.params[cols] * scale).tolist(), strict=True))
+        doll = self.blob_mesh.name
+        self.stream.send(
+            doll, frame.index, frame.time, res.params[:4], values, res.confidence, res.lost
+        )
 
     def _measure(self) -> None:
         now = time.monotonic()
@@ -331,6 +366,8 @@ class Recorder:
 
     def keep(self) -> str | None:
         """Store what was recorded with the blob (no apply); returns the take's name."""
+        if self.stream is not None:
+            self.notes += self.stream.warnings
         left = self.behind
         if left and self.footage is not None:
             self.notes.append(

@@ -1,4 +1,4 @@
-"""Command line: ``python -m voodoo_addon {blob,track,check,segment,bench,synth} ...``.
+"""Command line: ``python -m voodoo_addon {blob,track,live,check,segment,bench,synth} ...``.
 
 Bad input exits with status 2 and one line on stderr; see docs/design.md, *Command line*.
 """
@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from pathlib import Path
 
 import numpy as np
 
@@ -96,6 +97,67 @@ def cmd_track(args) -> int:
     if n_lost:
         msg += f", blob lost in {n_lost} frame(s)"
     print(msg + f" -> {args.out}")
+    return 0
+
+
+def cmd_live(args) -> int:
+    from .blob.build import build_blob
+    from .blob.model import load_blob
+    from .blob.outline import load_contour_json
+    from .live import LiveStats, run_live
+    from .media.sources import open_source
+    from .stream import OscSender
+    from .takes.take import Take, save_take
+    from .tracking import Tracker
+
+    if args.frames is not None:
+        whole(args.frames, "the number of frames (--frames)", 1)
+    sender = None
+    if args.osc:
+        try:
+            sender = OscSender(args.osc, bundle=not args.messages)
+        except VoodooError as exc:  # tracking goes on without the stream
+            print(f"warning: {exc} Tracking without streaming.", file=sys.stderr)
+    with open_source(args.source) as src:
+        if args.blob:
+            blob = load_blob(args.blob)
+        else:
+            frame = src.read()
+            if frame is None:
+                raise VoodooError(f"{args.source} gave no frame.")
+            blob = build_blob(frame.image, load_contour_json(args.contour), _blob_options(args))
+            if not src.live:
+                src.seek(0)
+        doll = args.name or Path(args.contour or args.blob).stem.split(".")[0]
+        tracker = Tracker(blob)
+        where = f" -> OSC {sender.target} as /voodoo/{doll}" if sender else ""
+        print(f"live: tracking {args.source}{where}; Ctrl-C stops", file=sys.stderr)
+        stats = LiveStats()
+
+        def status(st):
+            if not args.quiet:
+                print(f"live: {st.line()}", file=sys.stderr)
+
+        interrupted = False
+        try:
+            run_live(src, tracker, doll, sender, not args.fast, args.frames, stats, status)
+        except KeyboardInterrupt:
+            interrupted = True
+    if sender is not None:
+        for warning in sender.warnings:
+            print(f"warning: {warning}", file=sys.stderr)
+        sender.close()
+    if not stats.results:
+        raise VoodooError("No frame was tracked.")
+    msg = f"live: {stats.line()}" + (" (stopped)" if interrupted else "")
+    if args.out:
+        idx, times, results = zip(*stats.results, strict=True)
+        take = Take.from_results(
+            list(results), blob.triangles, tracker.parameter_names, idx, times, src.fps
+        )
+        save_take(args.out, take)
+        msg += f" -> {args.out}"
+    print(msg)
     return 0
 
 
@@ -222,6 +284,20 @@ def build_parser() -> argparse.ArgumentParser:
     _add_blob_args(t)
     t.set_defaults(func=cmd_track)
 
+    v = sub.add_parser("live", help="track a camera or a clip live and stream the motion over OSC")
+    v.add_argument("source", help="camera:N, a camera index, a video file or a picture folder")
+    v.add_argument("--contour", help="outline on the first frame (JSON)")
+    v.add_argument("--blob", help="use this blob file instead of building one")
+    v.add_argument("--osc", metavar="HOST:PORT", help="send every frame there (OSC over UDP)")
+    v.add_argument("--messages", action="store_true", help="plain messages, no bundles")
+    v.add_argument("--name", help="the doll's name in the addresses (default: the file's)")
+    v.add_argument("--fast", action="store_true", help="a file as fast as possible")
+    v.add_argument("--frames", type=int, help="stop after this many frames")
+    v.add_argument("--out", help="also write the take file (.npz)")
+    v.add_argument("--quiet", action="store_true", help="no status line every second")
+    _add_blob_args(v)
+    v.set_defaults(func=cmd_live)
+
     c = sub.add_parser(
         "check", help="judge a take without ground truth: texture consistency, folds, losses"
     )
@@ -247,7 +323,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     e.add_argument("--json", action="store_true", help="print one JSON line")
     e.add_argument("--quick", action="store_true", help="short synthetic sequences only")
-    e.add_argument("--only", nargs="+", help="parts: speed live clips calibration hd")
+    e.add_argument("--only", nargs="+", help="parts: speed live osc clips calibration hd")
     e.add_argument("--write", metavar="FILE", help="put the tables into FILE (BENCHMARKS.md)")
     e.set_defaults(func=cmd_bench)
 
@@ -278,8 +354,8 @@ def _quiet_opencv() -> None:
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     _quiet_opencv()
-    if args.command == "track" and not (args.contour or args.blob):
-        print("error: track needs --contour (or --blob)", file=sys.stderr)
+    if args.command in ("track", "live") and not (args.contour or args.blob):
+        print(f"error: {args.command} needs --contour (or --blob)", file=sys.stderr)
         return 2
     from .tracking.threads import single_blas_thread
 

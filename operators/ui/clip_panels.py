@@ -88,6 +88,12 @@ class VOODOO_PT_record(_ClipPanel, bpy.types.Panel):
         row.prop(s, "freeze_translation", toggle=True)
         row.prop(s, "freeze_rotation", toggle=True)
         row.prop(s, "freeze_scale", toggle=True)
+        row = layout.row(align=True)
+        row.prop(s, "osc_send", text="OSC", toggle=True)
+        sub = row.row(align=True)
+        sub.active = s.osc_send
+        sub.prop(s, "osc_target", text="")
+        sub.prop(s, "osc_bundle", text="", icon="PACKAGE")
         layout.operator("voodoo.record_take", icon="REC")
         layout.operator("voodoo.track_clip", icon="TRACKING_FORWARDS")
         if live_state.get("rate"):

@@ -14,7 +14,7 @@ import bpy
 from bpy_extras import anim_utils
 
 ADDON = "bl_ext.user_default.voodoo_dolls"
-BUNDLED = ("scipy", "cv2", "triangle", "threadpoolctl", "numba", "llvmlite")
+BUNDLED = ("scipy", "cv2", "triangle", "threadpoolctl", "numba", "llvmlite", "pythonosc")
 FRAMES = 20
 
 

@@ -20,7 +20,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 DRIVER = Path(__file__).with_name("installed_extension.py")
-BUNDLED = ("scipy", "cv2", "triangle", "threadpoolctl", "numba", "llvmlite")
+BUNDLED = ("scipy", "cv2", "triangle", "threadpoolctl", "numba", "llvmlite", "pythonosc")
 
 pytestmark = pytest.mark.slow
 
@@ -63,6 +63,7 @@ def test_zip_installs_runs_on_bundled_wheels_and_uninstalls(tmp_path, extension_
         "llvmlite",
         "numba",
         "opencv_contrib_python_headless",
+        "python_osc",
         "scipy",
         "threadpoolctl",
         "triangle",

@@ -12,6 +12,9 @@ Parts (``--only`` picks some):
 ``live``
     Per-frame time (median, p95) of the tracker with every robust stage on, on the real
     footage and the hard clips, beside KLT's on the same frames (:mod:`.livespeed`).
+``osc``
+    Latency of the OSC stream on loopback, from a frame being there to its bundle received
+    (:mod:`.osclatency`).
 ``calibration``
     Confidence against true node error on the renders (:mod:`.calibration`).
 ``hd``
@@ -33,7 +36,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-PARTS = ("speed", "live", "clips", "calibration", "hd")
+PARTS = ("speed", "live", "osc", "clips", "calibration", "hd")
 THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMEXPR_NUM_THREADS")
 
 
@@ -48,6 +51,10 @@ def measure(parts, quick: bool = False) -> dict:
         from .livespeed import run_live
 
         report["live"] = [{k: v for k, v in r.items() if k != "times_ms"} for r in run_live()]
+    if "osc" in parts:
+        from .osclatency import run_osc_latency
+
+        report["osc"] = run_osc_latency()
     if "clips" in parts:
         from .clips import clip_suite, ratios, run_clip
 
@@ -114,6 +121,13 @@ def sections(report: dict) -> dict:
         out["live"] = (
             f"{head} One thread.\n\n```sh\npython -m voodoo_addon bench --only live\n```\n\n"
             + format_live(report["live"])
+        )
+    if "osc" in report:
+        from .osclatency import format_osc
+
+        out["osc"] = (
+            f"{head} One thread for tracking, the receiver on another.\n\n```sh\n"
+            "python -m voodoo_addon bench --only osc\n```\n\n" + format_osc(report["osc"])
         )
     if "clips" in report:
         from .clips import format_rows

@@ -1,0 +1,140 @@
+"""Tracking live without Blender: the doll as a game controller (``voodoo live``).
+
+:func:`run_live` reads a source on a second thread (:mod:`.media.prefetch`), tracks every
+frame in order, streams each result over OSC (:mod:`.stream`) as soon as it is tracked, and
+measures the rate and the latency -- from the moment a frame is there (read from a camera,
+or due at a file's own pace) to the moment its result is sent.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .media.prefetch import Prefetcher
+from .media.sources import FrameSource
+from .stream import OscSender
+from .takes.rig import unit
+from .tracking import Tracker, TrackResult
+
+
+@dataclass
+class LiveStats:
+    """What a live run did.
+
+    Attributes
+    ----------
+    results : list of (frame index, time, TrackResult)
+        Every tracked frame, in order.
+    latencies : list of float
+        Seconds from each frame being there to its result being sent.
+    ready : list of float
+        ``time.monotonic()`` when each frame was there.
+    seconds : float
+        Wall time from the first frame to the last result.
+    """
+
+    results: list = field(default_factory=list)
+    latencies: list = field(default_factory=list)
+    ready: list = field(default_factory=list)
+    seconds: float = 0.0
+
+    @property
+    def frames(self) -> int:
+        return len(self.results)
+
+    @property
+    def rate(self) -> float:
+        """Frames tracked per second."""
+        return self.frames / self.seconds if self.seconds > 0 else 0.0
+
+    def latency(self, q: float = 50) -> float:
+        """A percentile of the latency, seconds (0 before any frame)."""
+        return float(np.percentile(self.latencies, q)) if self.latencies else 0.0
+
+    def line(self) -> str:
+        """One line for a person: frames, rate, latency."""
+        return (
+            f"{self.frames} frames, {self.rate:.1f} fps, latency {1000 * self.latency():.0f} ms "
+            f"(p95 {1000 * self.latency(95):.0f} ms)"
+        )
+
+
+def mode_values(tracker: Tracker, params: np.ndarray) -> dict:
+    """Each mode's value by its name, from a parameter vector.
+
+    The shape-key value a character would get: the amplitude in units of
+    :func:`~.takes.rig.unit`.
+    """
+    lay = tracker.layout
+    values = params[lay.modes] / unit(tracker.blob)
+    return dict(zip(lay.names[lay.modes], values.tolist(), strict=True))
+
+
+def run_live(
+    source: FrameSource,
+    tracker: Tracker,
+    doll: str,
+    sender: OscSender | None = None,
+    paced: bool = True,
+    limit: int | None = None,
+    stats: LiveStats | None = None,
+    every_second: Callable[[LiveStats], None] | None = None,
+) -> LiveStats:
+    """Track ``source`` frame by frame, streaming each result.
+
+    Parameters
+    ----------
+    source : FrameSource
+        A camera (taken at its own pace) or a file (at its frame rate when ``paced``, else
+        as fast as it can be tracked).
+    tracker : Tracker
+    doll : str
+        The name in the OSC addresses.
+    sender : OscSender, optional
+        Where each frame goes (nowhere by default: tracking and measuring only).
+    limit : int, optional
+        Frames at most.
+    stats : LiveStats, optional
+        Filled in as frames are tracked (so that a caller interrupted by Ctrl-C keeps what
+        was tracked); a new one by default.
+    every_second : callable, optional
+        Called with the stats about once a second.
+    """
+    stats = stats if stats is not None else LiveStats()
+    pace = paced and not source.live
+    with Prefetcher(source, limit=limit) as feed:
+        start = last_report = None
+        while (frame := feed.read()) is not None:
+            now = time.monotonic()
+            if start is None:
+                start = last_report = now - (frame.time if pace else 0.0)
+            ready = feed.arrived
+            if pace:  # a file at its own pace: the frame is there at its time
+                due = start + frame.time
+                if due > now:
+                    time.sleep(due - now)
+                ready = max(ready, due)
+            res: TrackResult = tracker.track(frame.pixels)
+            if sender is not None:
+                sender.send(
+                    doll,
+                    frame.index,
+                    frame.time,
+                    res.params[:4],
+                    mode_values(tracker, res.params),
+                    res.confidence,
+                    res.lost,
+                )
+            done = time.monotonic()
+            stats.results.append((frame.index, frame.time, res))
+            stats.latencies.append(done - ready)
+            stats.ready.append(ready)
+            stats.seconds = done - start
+            if every_second is not None and done - last_report >= 1.0:
+                last_report = done
+                every_second(stats)
+    return stats
