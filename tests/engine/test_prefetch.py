@@ -12,7 +12,7 @@ from voodoo_addon.media.sources import ArraySource, Frame
 
 
 def frames(n, size=(8, 6)):
-    return [np.full((size[1], size[0], 3), i, np.uint8) for i in range(n)]
+    return [np.full((size[1], size[0], 3), i % 256, np.uint8) for i in range(n)]
 
 
 class Camera(ArraySource):
