@@ -2,7 +2,7 @@
 
 ``extension_zips`` builds the extension from this checkout once per test session (the same as
 ``make extension``) for the packaging test and the install test. It needs Blender's extension
-builder, which ships in the bpy wheel: without bpy (the NumPy 2 engine run) it skips.
+builder, which ships in the bpy wheel: without bpy it skips.
 """
 
 import importlib.util

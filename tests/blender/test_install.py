@@ -1,9 +1,10 @@
-"""The built Linux zip installs into Blender 5.0 and runs on its bundled wheels alone.
+"""The built Linux zip installs into the running Blender and runs on its bundled wheels alone.
 
 The zip is (re)built once per session (``extension_zips`` in tests/conftest.py, as
 ``make extension``; wheels are downloaded once). It holds wheels for CPython 3.11 (Blender 5.0)
-and 3.13 (5.1 and later): Blender 5.0 must extract the 3.11 ones only. A child Python gets a path
-holding only bpy and numpy -- no scipy, OpenCV or triangle -- and a scratch
+and 3.13 (5.1 and later): Blender must extract its own Python's ones only (this runs on 5.0
+in .venv, on 5.1 and 5.2 in the CPython 3.13 root of scripts/blender_next.sh). A child Python
+gets a path holding only bpy and numpy -- no scipy, OpenCV or triangle -- and a scratch
 BLENDER_USER_RESOURCES; it installs the zip, records a take of the sample clip with the installed
 add-on and uninstalls it (tests/blender/installed_extension.py). Everything Blender-side happens
 in that child: this process never touches its own bpy here.
@@ -21,6 +22,8 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 DRIVER = Path(__file__).with_name("installed_extension.py")
 BUNDLED = ("scipy", "cv2", "triangle", "threadpoolctl", "numba", "llvmlite", "pythonosc")
+PYTHON = f"python{sys.version_info.major}.{sys.version_info.minor}"  # Blender's, as it names it
+CPYTHON = f"cp{sys.version_info.major}{sys.version_info.minor}"  # its wheel tag
 
 pytestmark = pytest.mark.slow
 
@@ -52,13 +55,13 @@ def run_installed(zip_path: Path, scratch: Path) -> dict:
 def test_zip_installs_runs_on_bundled_wheels_and_uninstalls(tmp_path, extension_zips):
     seen = run_installed(extension_zips["linux-x64"], tmp_path)
     extensions = tmp_path / "user" / "extensions"
-    site_packages = extensions / ".local" / "lib" / "python3.11" / "site-packages"
+    site_packages = extensions / ".local" / "lib" / PYTHON / "site-packages"
     # the child could not import the dependencies until the extension brought them
     assert seen["importable_before"] == dict.fromkeys(BUNDLED, False)
     assert seen["enabled"]
     for name in BUNDLED:
         assert Path(seen["files"][name]).resolve().is_relative_to(site_packages.resolve()), name
-    # one wheel of each was extracted, the CPython 3.11 one (or the abi3 / pure-Python one)
+    # one wheel of each was extracted, the one for this CPython (or the abi3 / pure-Python one)
     assert sorted(seen["wheel_tags"]) == [
         "llvmlite",
         "numba",
@@ -70,7 +73,7 @@ def test_zip_installs_runs_on_bundled_wheels_and_uninstalls(tmp_path, extension_
     ]
     for name, tags in seen["wheel_tags"].items():
         pythons = {tag.split("-")[0] for tag in tags}
-        assert pythons in ({"cp311"}, {"cp37"}, {"py3"}), (name, tags)
+        assert pythons in ({CPYTHON}, {"cp37"}, {"py3"}), (name, tags)
     # the add-on did the whole job: one shape key per mode, keyed on every tracked frame
     assert seen["take"]["shape_keys"] > 0
     assert seen["take"]["keyed_frames"] == [20]

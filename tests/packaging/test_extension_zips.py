@@ -46,7 +46,7 @@ pytestmark = pytest.mark.slow  # builds the zips (wheels are downloaded once, in
 
 #: The Blender lines the extension supports: (Blender version, its CPython, the NumPy versions
 #: its line ships or accepts: 1.26.4 for 5.0; for 5.1 and later the lowest bpy accepts and the
-#: one the engine is tested on, see requirements-numpy2.txt).
+#: one the suite runs on in Blender 5.1 and 5.2, see requirements-next.txt).
 BLENDERS = {
     "5.0": ((5, 0, 1), (3, 11), ("1.26.4",)),
     "5.1": ((5, 1, 2), (3, 13), ("2.2.0", "2.3.5")),

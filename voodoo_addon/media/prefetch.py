@@ -126,6 +126,7 @@ class Prefetcher(FrameSource):
             return PENDING
         if item is _END:
             self._done = True
+            self._thread.join()  # its last act was queuing the end: once read, it is over
             if self._error is not None:
                 err = self._error
                 if isinstance(err, VoodooError):
