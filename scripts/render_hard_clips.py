@@ -54,6 +54,22 @@ The held-out clips of ``hardclips/heldout.py`` (``handheld_zoom``, ``occluded_ex
 ``glossy_fast_twist``), for checking that the tracker generalises, are made only when named with
 ``--only`` (not together with the others), into a folder of their own outside ``samples/``.
 
+The clips of several dolls in one take (``hardclips/multi.py``) are likewise made only when named,
+into ``samples/multi``::
+
+    .venv/bin/python scripts/render_hard_clips.py --out samples/multi --only two_dolls
+
+They write one outline and one truth per doll DOLL: ``NAME.DOLL.json`` and
+``NAME_DOLL_truth.npz``, in the formats above, where ``visible`` is also false where another
+doll hides the point:
+
+``two_dolls``
+    Two sheets with different paint (spots on the left, a printed label on the right) side by
+    side and about 70 px apart on frame 0. Apart, the left one bends towards the camera and
+    drifts while the right one squashes, tilts and turns; then the right one (0.12 nearer the
+    camera) slides in front of the left one, covering about half of it for about a second,
+    and they part and end apart, almost flat.
+
 Everything is seeded: the same command makes the same scenes, truth and outlines (Cycles runs
 seeded on one thread, so the renders should repeat too). All seven take about 50 minutes.
 
@@ -68,6 +84,7 @@ from pathlib import Path
 
 from hardclips.heldout import HELDOUT  # scripts/ is on sys.path; hardclips pins one core
 from hardclips.make import make_clip, write_readme
+from hardclips.multi import MULTI
 from hardclips.scenarios import CLIPS
 
 
@@ -77,8 +94,8 @@ def parse_args(argv=None):
     parser.add_argument(
         "--only",
         nargs="+",
-        choices=[c.name for c in CLIPS + HELDOUT],
-        help="make only these clips (the held-out ones only so)",
+        choices=[c.name for c in CLIPS + HELDOUT + MULTI],
+        help="make only these clips (the held-out and several-doll ones only so)",
     )
     parser.add_argument(
         "--draft", action="store_true", help="render with Workbench, to check the geometry"
@@ -95,14 +112,17 @@ def main(argv=None):
     if args.only is None:
         clips = CLIPS  # never the held-out clips
     else:
-        clips = [c for c in CLIPS + HELDOUT if c.name in args.only]
+        clips = [c for c in CLIPS + HELDOUT + MULTI if c.name in args.only]
         if any(c in HELDOUT for c in clips) and any(c in CLIPS for c in clips):
             raise SystemExit("make the held-out clips apart from the others, in another folder")
+        if any(c in MULTI for c in clips) and any(c not in MULTI for c in clips):
+            raise SystemExit("make the clips of several dolls apart from the others")
     total = 0.0
     for clip in clips:
         total += make_clip(clip, args.out, args.draft, args.truth_only)
     if not (args.draft or args.truth_only):
-        write_readme(args.out, HELDOUT if clips[0] in HELDOUT else CLIPS)
+        group = HELDOUT if clips[0] in HELDOUT else MULTI if clips[0] in MULTI else CLIPS
+        write_readme(args.out, group)
     print(f"rendering took {total:.0f} s in all")
 
 

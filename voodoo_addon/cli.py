@@ -66,37 +66,49 @@ def cmd_blob(args) -> int:
 def cmd_track(args) -> int:
     from .blob.build import build_blob
     from .blob.model import load_blob
-    from .blob.outline import load_contour_json
+    from .blob.outline import check_apart, contour_name, load_contour_json
     from .media.prefetch import Prefetcher
     from .media.sources import open_source
-    from .takes.take import ProgressBar, missing_frames, save_take, track_source
-    from .tracking import Tracker
+    from .takes.dolls import save_takes, track_dolls
+    from .takes.take import ProgressBar, missing_frames
+    from .tracking.troupe import Troupe, doll_names
 
     if args.frames is not None:
         whole(args.frames, "the number of frames (--frames)", 1)
+    contours, blob_files = args.contour or [], args.blob or []
+    if not contours and not blob_files:
+        raise VoodooError("track needs an outline (--contour) or a blob (--blob).")
+    names = doll_names(
+        [contour_name(c) for c in contours] + [Path(b).name.split(".")[0] for b in blob_files]
+    )
     with open_source(args.video) as src:
-        if args.blob:
-            blob = load_blob(args.blob)
-        else:
-            blob = build_blob(
-                src.read_at(0).image, load_contour_json(args.contour), _blob_options(args)
-            )
+        blobs = []
+        if contours:
+            outlines = {n: load_contour_json(c) for n, c in zip(names, contours, strict=False)}
+            check_apart(outlines)
+            first = src.read_at(0).image
+            blobs += [build_blob(first, o, _blob_options(args)) for o in outlines.values()]
             src.seek(0)
-        tracker = Tracker(blob, frozen=args.freeze or ())
+        blobs += [load_blob(b) for b in blob_files]
+        troupe = Troupe(
+            dict(zip(names, blobs, strict=True)), frozen=dict.fromkeys(names, args.freeze or ())
+        )
         long_clip = src.count is None or src.count > 30
         bar = ProgressBar(src.count) if long_clip and not args.quiet else None
         # Frames are decoded on a second thread (a second core) while this one tracks.
         with Prefetcher(src, limit=args.frames) as ahead:
-            take = track_source(blob, ahead, tracker, progress=bar, limit=args.frames)
-        short = missing_frames(src, take, args.frames, name=str(args.video))
-    save_take(args.out, take)
+            takes = track_dolls(troupe, ahead, progress=bar, limit=args.frames)
+        short = missing_frames(src, next(iter(takes.values())), args.frames, name=str(args.video))
+    save_takes(args.out, takes)
     if short:
         print(f"warning: {short}", file=sys.stderr)
-    n_lost = int(take.lost.sum())
-    msg = f"track: {len(take)} frames, mean confidence {take.confidence.mean():.2f}"
-    if n_lost:
-        msg += f", blob lost in {n_lost} frame(s)"
-    print(msg + f" -> {args.out}")
+    for name, take in takes.items():
+        n_lost = int(take.lost.sum())
+        who = f" {name}:" if len(takes) > 1 else ""
+        msg = f"track:{who} {len(take)} frames, mean confidence {take.confidence.mean():.2f}"
+        if n_lost:
+            msg += f", blob lost in {n_lost} frame(s)"
+        print(msg + f" -> {args.out}")
     return 0
 
 
@@ -163,38 +175,48 @@ def cmd_live(args) -> int:
 
 def cmd_check(args) -> int:
     from .media.sources import open_source
-    from .takes.take import load_take
+    from .takes.dolls import load_takes
     from .tracking.quality import check_take
 
-    take = load_take(args.take)
+    takes = load_takes(args.take)
+    several = len(takes) > 1
+    report = {}
     with open_source(args.video) as src:
-        score = check_take(src, take)
+        for name, take in takes.items():
+            src.seek(0)
+            report[name] = (take, check_take(src, take))
     if args.json:
-        out = {"frames": len(take), **score.summary()}
-        out["per_frame"] = [
-            None if not np.isfinite(v) else round(float(v), 4) for v in score.per_frame
-        ]
-        out["folded"] = score.folded.astype(int).tolist()
-        out["lost"] = score.lost.astype(int).tolist()
-        print(json.dumps(out))
+        out = {name: _check_json(take, score) for name, (take, score) in report.items()}
+        print(json.dumps({"dolls": out} if several else next(iter(out.values()))))
         return 0
-    if args.per_frame:
-        print("frame  consistency  seen  folded  lost  confidence")
-        for row, i in enumerate(take.frame_indices):
-            c = score.per_frame[row]
-            print(
-                f"{int(i):5d}  {'   -  ' if not np.isfinite(c) else f'{c:7.3f}'}     "
-                f"{score.seen[row]:4.2f}  {'yes' if score.folded[row] else ' no'}     "
-                f"{'yes' if score.lost[row] else ' no'}   {take.confidence[row]:.3f}"
-            )
-    n = len(take)
-    print(
-        f"check: {n} frames; texture consistency mean {score.mean:.3f}, "
-        f"10th percentile {score.p10:.3f}; folded frames {int(score.folded.sum())} "
-        f"({100 * score.folded_fraction:.0f}%); lost frames {int(score.lost.sum())} "
-        f"({100 * score.lost_fraction:.0f}%)"
-    )
+    for name, (take, score) in report.items():
+        who = f" {name}:" if several else ""
+        if args.per_frame:
+            if several:
+                print(f"{name}:")
+            print("frame  consistency  seen  folded  lost  confidence")
+            for row, i in enumerate(take.frame_indices):
+                c = score.per_frame[row]
+                print(
+                    f"{int(i):5d}  {'   -  ' if not np.isfinite(c) else f'{c:7.3f}'}     "
+                    f"{score.seen[row]:4.2f}  {'yes' if score.folded[row] else ' no'}     "
+                    f"{'yes' if score.lost[row] else ' no'}   {take.confidence[row]:.3f}"
+                )
+        print(
+            f"check:{who} {len(take)} frames; texture consistency mean {score.mean:.3f}, "
+            f"10th percentile {score.p10:.3f}; folded frames {int(score.folded.sum())} "
+            f"({100 * score.folded_fraction:.0f}%); lost frames {int(score.lost.sum())} "
+            f"({100 * score.lost_fraction:.0f}%)"
+        )
     return 0
+
+
+def _check_json(take, score) -> dict:
+    out = {"frames": len(take), **score.summary()}
+    out["per_frame"] = [None if not np.isfinite(v) else round(float(v), 4) for v in score.per_frame]
+    out["folded"] = score.folded.astype(int).tolist()
+    out["lost"] = score.lost.astype(int).tolist()
+    return out
 
 
 def cmd_segment(args) -> int:
@@ -273,11 +295,17 @@ def build_parser() -> argparse.ArgumentParser:
     _add_blob_args(b)
     b.set_defaults(func=cmd_blob)
 
-    t = sub.add_parser("track", help="track a blob through a video")
+    t = sub.add_parser("track", help="track one or several dolls through a video")
     t.add_argument("video", help="video file, picture folder, or camera:N")
-    t.add_argument("--contour", help="outline on the first frame (JSON)")
-    t.add_argument("--blob", help="use this blob file instead of building one")
-    t.add_argument("--out", required=True, help="take file to write (.npz)")
+    t.add_argument(
+        "--contour",
+        action="append",
+        help="outline on the first frame (JSON); repeat it for several dolls",
+    )
+    t.add_argument(
+        "--blob", action="append", help="use this blob file instead of building one; repeatable"
+    )
+    t.add_argument("--out", required=True, help="take file to write (.npz), every doll in it")
     t.add_argument("--freeze", nargs="*", help="parameters held fixed, e.g. rotate scale")
     t.add_argument("--frames", type=int, help="stop after this many frames (needed for cameras)")
     t.add_argument("--quiet", action="store_true", help="no progress bar")

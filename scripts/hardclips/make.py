@@ -1,4 +1,7 @@
-"""One hard clip's files (truth, outline, video) and the clip folder's README."""
+"""One hard clip's files (truth, outline, video) and the clip folder's README.
+
+A clip of several dolls (``multi``) writes an outline and a truth file per doll.
+"""
 
 import json
 import tempfile
@@ -11,6 +14,7 @@ import bpy
 import numpy as np
 
 from hardclips.heldout import HELDOUT
+from hardclips.multi import MULTI
 from hardclips.scenarios import CLIPS
 from hardclips.scene import HEIGHT, SEED, WIDTH, new_scene
 from hardclips.truth import lattice_truth, region_outline
@@ -18,8 +22,20 @@ from hardclips.video import NOISE_SIGMA, develop, encode, render_frames
 
 
 def clip_number(clip):
-    """The clip's place in ``CLIPS`` (held-out clips: 100 + in ``HELDOUT``): seeds its scene."""
+    """The clip's number, which seeds its scene.
+
+    Its place in ``CLIPS``; held-out clips: 100 + in ``HELDOUT``; several dolls: 200 + in ``MULTI``.
+    """
+    if clip in MULTI:
+        return 200 + MULTI.index(clip)
     return CLIPS.index(clip) if clip in CLIPS else 100 + HELDOUT.index(clip)
+
+
+def doll_files(clip, doll):
+    """The outline's and the truth's file names of ``clip``'s ``doll`` (None: its only sheet)."""
+    if doll is None:
+        return f"{clip.name}.json", f"{clip.name}_truth.npz"
+    return f"{clip.name}.{doll}.json", f"{clip.name}_{doll}_truth.npz"
 
 
 def make_clip(clip, out, draft, truth_only=False):
@@ -29,22 +45,24 @@ def make_clip(clip, out, draft, truth_only=False):
     """
     rng = np.random.default_rng([SEED, 2, clip_number(clip)])
     scene = new_scene(clip, draft)
-    sheet = clip.build(rng, clip)
+    built = clip.build(rng, clip)  # a Sheet, or {doll name: Sheet} for several dolls
+    sheets = built if isinstance(built, dict) else {None: built}
     started = time.perf_counter()
-    lattice, visible = lattice_truth(scene, sheet)
-    truth_s = time.perf_counter() - started
-    np.savez_compressed(
-        out / f"{clip.name}_truth.npz", lattice=lattice, visible=visible, fps=float(clip.fps)
-    )
-    outline = region_outline(lattice[0])
-    (out / f"{clip.name}.json").write_text(
-        json.dumps({"points": np.round(outline, 2).tolist()}) + "\n"
-    )
-    if truth_only:
-        print(
-            f"{clip.name}: truth in {truth_s:.0f} s, min visible "
-            f"{visible.mean(axis=(1, 2)).min():.2f}"
+    least = []  # each doll's least visible fraction in a frame
+    for doll, sheet in sheets.items():
+        lattice, visible = lattice_truth(scene, sheet)  # the other dolls occlude it too
+        outline_file, truth_file = doll_files(clip, doll)
+        np.savez_compressed(out / truth_file, lattice=lattice, visible=visible, fps=float(clip.fps))
+        outline = region_outline(lattice[0])
+        (out / outline_file).write_text(
+            json.dumps({"points": np.round(outline, 2).tolist()}) + "\n"
         )
+        fraction = visible.mean(axis=(1, 2)).min()
+        least.append(f"{fraction:.2f}" if doll is None else f"{doll} {fraction:.2f}")
+    truth_s = time.perf_counter() - started
+    least = ", ".join(least)
+    if truth_only:
+        print(f"{clip.name}: truth in {truth_s:.0f} s, min visible {least}")
         return 0.0
     with tempfile.TemporaryDirectory(prefix=f"hard_{clip.name}_") as tmp:
         tmp = Path(tmp)
@@ -56,8 +74,7 @@ def make_clip(clip, out, draft, truth_only=False):
     print(
         f"{clip.name}: {clip.frames} frames at {clip.fps} fps, lattice {lattice.shape[1:3]}, "
         f"truth {truth_s:.0f} s, render {render_s:.0f} s ({render_s / clip.frames:.2f} s/frame),"
-        f" video {video.stat().st_size} bytes (CRF {crf}), min visible "
-        f"{visible.mean(axis=(1, 2)).min():.2f}",
+        f" video {video.stat().st_size} bytes (CRF {crf}), min visible {least}",
         flush=True,
     )
     return render_s
@@ -107,10 +124,35 @@ frame-0 lattice is an axis-aligned grid.
 """
 
 
+README_MULTI = """# Clips of several dolls
+
+Test clips for tracking several dolls (painted sheets) in one take, which pass in front of each
+other. Rendered with Blender {blender} (the `bpy` module, headless) by
+[`scripts/render_hard_clips.py`](../../scripts/render_hard_clips.py) (scenes in
+`scripts/hardclips/multi.py`, paint from `scripts/hard_textures.py`) from a fixed seed, so the
+same command makes the same scenes, truth and outlines; it makes them only when named:
+
+    .venv/bin/python scripts/render_hard_clips.py --out samples/multi --only {names}
+
+Each clip NAME has `NAME.mp4` (H.264, {width}x{height}, gaussian sensor noise of {noise:.1f} %
+added before encoding) and, for each doll DOLL (`left`, `right`), `NAME.DOLL.json` (the region
+outline of that doll on frame 0) and `NAME_DOLL_truth.npz` (its lattice, `visible` and `fps`).
+These are the formats of the single-doll clips (see [`../hard/README.md`](../hard/README.md)):
+OpenCV pixel coordinates, `lattice` (T, R, C, 2) float32, `visible` (T, R, C) bool. A doll's
+`visible` is false where the other doll hides it (the ray casts see every doll), where it turns
+its back to the camera or where it leaves the image. On frame 0 every doll lies flat, square to
+the perspective camera, apart from the others and at rest for three frames.
+
+| clip | frames | fps | what happens | renderer |
+| --- | ---: | ---: | --- | --- |
+{rows}
+"""
+
+
 def write_readme(out, clips=CLIPS):
     """``out``/README.md: how the clips were made, what they hold, one row per clip.
 
-    ``clips`` is ``CLIPS`` or ``HELDOUT``.
+    ``clips`` is ``CLIPS``, ``HELDOUT`` or ``MULTI``.
     """
     making = MAKING if clips is CLIPS else MAKING_HELDOUT
     rows = []
@@ -121,6 +163,18 @@ def write_readme(out, clips=CLIPS):
         if clip.post is not None:
             renderer += f"; {clip.post_note} in post"
         rows.append(f"| `{clip.name}` | {clip.frames} | {clip.fps} | {clip.what} | {renderer} |")
+    if clips is MULTI:
+        (out / "README.md").write_text(
+            README_MULTI.format(
+                blender=bpy.app.version_string,
+                names=" ".join(c.name for c in clips),
+                width=WIDTH,
+                height=HEIGHT,
+                noise=100 * NOISE_SIGMA,
+                rows="\n".join(rows),
+            )
+        )
+        return
     (out / "README.md").write_text(
         README.format(
             making=making.format(

@@ -13,6 +13,7 @@ import heapq
 import json
 from pathlib import Path
 
+import cv2
 import numpy as np
 
 from ..errors import VoodooError
@@ -265,6 +266,58 @@ def load_contour_json(path) -> np.ndarray:
     if not isinstance(data, dict) or "points" not in data:
         raise VoodooError(f'Contour file {path} must hold {{"points": [[x, y], ...]}}.')
     return _as_points(data["points"], path)
+
+
+def contour_name(path) -> str:
+    """A doll's name for an outline file: its ``"name"``, else the file's name.
+
+    The file's name loses ``.json`` and ``.contour`` (``left.contour.json`` is ``left``).
+    """
+    path = Path(path)
+    try:
+        data = json.loads(path.read_text())
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError):
+        data = None
+    if isinstance(data, dict) and isinstance(data.get("name"), str) and data["name"].strip():
+        return data["name"].strip()
+    name = path.name.removesuffix(".json").removesuffix(".contour")
+    return name or "doll"
+
+
+def check_apart(outlines: dict) -> None:
+    """Outlines of several dolls on one frame must not overlap (each pixel is one doll's).
+
+    Parameters
+    ----------
+    outlines : mapping of str to (k, 2) array
+        Each doll's outline (closed polygon), pixel coordinates.
+
+    Raises
+    ------
+    VoodooError
+        Naming the first two dolls whose outlines overlap or cross.
+    """
+    names = list(outlines)
+    polys = [np.asarray(outlines[n], np.float64) for n in names]
+    for i in range(len(names)):
+        for j in range(i + 1, len(names)):
+            a, b = polys[i], polys[j]
+            lo = np.floor(np.minimum(a.min(axis=0), b.min(axis=0))).astype(int) - 1
+            hi = np.ceil(np.maximum(a.max(axis=0), b.max(axis=0))).astype(int) + 1
+            w, h = (hi - lo + 1).tolist()
+            if w * h > 64_000_000:
+                continue
+            masks = []
+            for poly in (a, b):
+                m = np.zeros((h, w), np.uint8)
+                cv2.fillPoly(m, [np.round((poly - lo) * 4).astype(np.int32)], 1, shift=2)
+                masks.append(m)
+            if np.count_nonzero(masks[0] & masks[1]):
+                raise VoodooError(
+                    f"The outlines of {names[i]!r} and {names[j]!r} overlap: each doll needs "
+                    "a region of its own. Outline them apart (they may touch and cross later, "
+                    "while tracking)."
+                )
 
 
 def _as_points(raw, path) -> np.ndarray:

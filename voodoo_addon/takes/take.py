@@ -19,8 +19,10 @@ from ..tracking import Tracker
 
 TAKE_KIND = "voodoo-take"
 TAKE_VERSION = 2
-#: Versions this code reads (version 1 had no per-triangle visibility).
+#: Versions this code reads as one doll's take (version 1 had no per-triangle visibility).
 READABLE_VERSIONS = (1, 2)
+#: The version of a file holding several dolls' takes (see :mod:`.dolls`).
+SEVERAL_VERSION = 3
 
 
 @dataclass(frozen=True, eq=False)
@@ -134,19 +136,26 @@ def take_to_bytes(take: Take) -> bytes:
         buf,
         format_kind=np.array(TAKE_KIND),
         format_version=np.array(TAKE_VERSION),
-        vertices=take.vertices,
-        triangles=take.triangles,
-        params=take.params,
-        confidence=take.confidence,
-        mode_labels=take.param_names.astype(str),
-        lost=take.lost,
-        frame_indices=take.frame_indices,
-        times=take.times,
-        fps=np.array(take.fps),
-        iterations=take.iterations,
-        visible=take.visible,
+        **take_arrays(take),
     )
     return buf.getvalue()
+
+
+def take_arrays(take: Take) -> dict[str, np.ndarray]:
+    """A take's arrays as its file names them (without the format header)."""
+    return {
+        "vertices": take.vertices,
+        "triangles": take.triangles,
+        "params": take.params,
+        "confidence": take.confidence,
+        "mode_labels": take.param_names.astype(str),
+        "lost": take.lost,
+        "frame_indices": take.frame_indices,
+        "times": take.times,
+        "fps": np.array(take.fps),
+        "iterations": take.iterations,
+        "visible": take.visible,
+    }
 
 
 #: Every array of a take file: kind and shape (names are sizes that must agree).
@@ -175,8 +184,19 @@ def take_from_bytes(data: bytes, source: str = "the take data") -> Take:
     """
     d = load_npz(data, source, "Voodoo take")
     is_take, version = header(d, TAKE_KIND)
+    if is_take and version == SEVERAL_VERSION:
+        names = ", ".join(str(n) for n in d["dolls"]) if "dolls" in d else "several dolls"
+        raise VoodooError(
+            f"{source} holds several dolls ({names}); read it as a take of several dolls "
+            "(voodoo_addon.takes.dolls.load_takes)."
+        )
     if not is_take or version not in READABLE_VERSIONS:
         raise VoodooError(f"{source} is not a Voodoo take of version {TAKE_VERSION}.")
+    return take_from_arrays(d, version, source)
+
+
+def take_from_arrays(d, version: int, source: str) -> Take:
+    """One doll's take from its file's arrays (see :func:`take_arrays`), checked."""
     spec = dict(_SPEC, visible=("bool", ("T", "t"))) if version >= 2 else _SPEC
     size = check_arrays(d, spec, source)
     require(size["T"] >= 1, source, "no frames")

@@ -120,6 +120,8 @@ class DifferenceDecomposition:
         self.outlier_factor = outlier_factor
         self.floor = floor
         self._nodes = node_positions
+        #: What is known to cover the blob in the frame being fitted (see ``Cover``).
+        self.cover = None
         self._solvers: dict[tuple, Solver] = {}
         self._photometric = np.r_[layout.brightness, layout.contrast].astype(np.int64)
 
@@ -188,6 +190,7 @@ class DifferenceDecomposition:
             self.hidden(a),
             occluded,
             template,
+            self.cover,
         )
 
     def fit(

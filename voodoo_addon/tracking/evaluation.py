@@ -103,6 +103,7 @@ def evaluate(
     hidden: np.ndarray | None = None,
     occluded: np.ndarray | None = None,
     template: np.ndarray | None = None,
+    cover: Cover | None = None,
 ) -> Evaluation | None:
     """Warp, sample and compare at ``a``: the robust difference image (Eq. 12, 16).
 
@@ -129,6 +130,9 @@ def evaluate(
     template : (n, 3) float32, optional
         What the pixels are compared with instead of the level's template (an appearance
         adapted to recent frames, see ``Tracker``).
+    cover : Cover, optional
+        Frame pixels where something known is in front (another doll): the template pixels
+        landing there count as off the picture.
 
     Returns
     -------
@@ -145,8 +149,12 @@ def evaluate(
         valid = None
     else:
         valid = (x >= 0) & (y >= 0) & (x <= box[0]) & (y <= box[1])
-        if np.count_nonzero(valid) < 0.15 * n:
-            return None
+    if cover is not None:
+        free = cover.free(x + origin[0], y + origin[1], level.scale)
+        if free is not None:
+            valid = free if valid is None else valid & free
+    if valid is not None and np.count_nonzero(valid) < 0.15 * n:
+        return None
     samples = backend.sample(level.geometry, nodes - origin, pos)
     valid_all = valid is None
     if valid_all:
@@ -209,6 +217,34 @@ def evaluate(
         hidden,
         compare.diff,
     )
+
+
+class Cover:
+    """Frame pixels where something known is in front of the blob (another doll).
+
+    Parameters
+    ----------
+    mask : (H, W) bool
+        True where the blob is covered, frame pixels.
+    """
+
+    def __init__(self, mask: np.ndarray):
+        self.mask = np.ascontiguousarray(mask, dtype=bool)
+        rows, cols = np.nonzero(self.mask.any(axis=1))[0], np.nonzero(self.mask.any(axis=0))[0]
+        self.box = None if not len(rows) else (cols[0], rows[0], cols[-1], rows[-1])
+
+    def free(self, x: np.ndarray, y: np.ndarray, scale: float) -> np.ndarray | None:
+        """Of level pixels (x, y) at ``scale``, those not covered; None when none is."""
+        if self.box is None:
+            return None
+        h, w = self.mask.shape
+        fx = np.clip(np.rint(x / scale), 0, w - 1).astype(np.intp)
+        fy = np.clip(np.rint(y / scale), 0, h - 1).astype(np.intp)
+        x0, y0, x1, y1 = self.box
+        if fx.max() < x0 or fx.min() > x1 or fy.max() < y0 or fy.min() > y1:
+            return None
+        free = ~self.mask[fy, fx]
+        return None if free.all() else free
 
 
 class _Comparison:

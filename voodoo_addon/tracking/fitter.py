@@ -130,6 +130,12 @@ class CoarseToFineFitter:
             self.levels[0], blob, layout, self.guard, norm.sigma, self.nodes, self.quality
         )
 
+    def set_cover(self, cover) -> None:
+        """What covers the blob in the next frames (a ``Cover``, or None: nothing known)."""
+        for step in (*self.levels, self.refiner.sub_step):
+            if step is not None:
+                step.cover = cover
+
     def nodes(self, a: np.ndarray, offsets: np.ndarray | None = None) -> np.ndarray:
         """Mesh nodes (m, 2) in frame pixels for parameters ``a`` (and local offsets)."""
         return node_positions(

@@ -14,6 +14,7 @@ import numpy as np
 
 from ..blob.model import ActiveBlob
 from ..errors import VoodooError
+from .evaluation import Cover
 from .fitter import CoarseToFineFitter, Fit
 from .norms import LorentzianNorm, RobustNorm
 from .options import TrackerOptions
@@ -163,7 +164,7 @@ class Tracker:
 
     # ------------------------------------------------------------------ public
 
-    def track(self, frame: np.ndarray) -> TrackResult:
+    def track(self, frame: np.ndarray, cover: Cover | None = None) -> TrackResult:
         """Register the blob to one frame.
 
         Parameters
@@ -172,12 +173,19 @@ class Tracker:
             RGB (uint8, or float in [0, 1]), the capture frame's size. Only the region
             around the blob is converted. The tracker keeps a reference to the frame until
             the next call (to follow points from it): do not write into it meanwhile.
+        cover : Cover, optional
+            Pixels of this frame where something known is in front of the blob (another
+            doll, see :class:`~.troupe.Troupe`): the blob's pixels there count as off the
+            picture -- neither compared nor counted against the fit.
 
         Returns
         -------
         TrackResult
         """
         frame = self._check_frame(frame)
+        if cover is not None and cover.mask.shape != frame.shape[:2]:
+            raise VoodooError("A cover must be a mask of the frame's size.")
+        self.fitter.set_cover(cover)
         with single_blas_thread():
             return self._track(frame)
 
