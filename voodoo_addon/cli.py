@@ -63,36 +63,51 @@ def cmd_blob(args) -> int:
     return 0
 
 
-def cmd_track(args) -> int:
+def _troupe(args, src, name: str | None = None):
+    """The dolls of ``--contour`` and ``--blob`` (both repeatable), as a Troupe.
+
+    Blobs are built on the source's first frame; a file is then rewound. ``name`` renames a
+    single doll.
+    """
     from .blob.build import build_blob
     from .blob.model import load_blob
     from .blob.outline import check_apart, contour_name, load_contour_json
+    from .tracking.troupe import Troupe, doll_names
+
+    contours, blob_files = args.contour or [], args.blob or []
+    if not contours and not blob_files:
+        raise VoodooError(f"{args.command} needs an outline (--contour) or a blob (--blob).")
+    names = [contour_name(c) for c in contours] + [Path(b).name.split(".")[0] for b in blob_files]
+    if name is not None:
+        if len(names) > 1:
+            raise VoodooError("--name names one doll; with several, name each in its outline.")
+        names = [name]
+    names = doll_names(names)
+    blobs = []
+    if contours:
+        outlines = {n: load_contour_json(c) for n, c in zip(names, contours, strict=False)}
+        check_apart(outlines)
+        frame = src.read()
+        if frame is None:
+            raise VoodooError(f"{getattr(args, 'video', None) or args.source} gave no frame.")
+        blobs += [build_blob(frame.image, o, _blob_options(args)) for o in outlines.values()]
+        if not src.live:
+            src.seek(0)
+    blobs += [load_blob(b) for b in blob_files]
+    frozen = dict.fromkeys(names, getattr(args, "freeze", None) or ())
+    return Troupe(dict(zip(names, blobs, strict=True)), frozen=frozen)
+
+
+def cmd_track(args) -> int:
     from .media.prefetch import Prefetcher
     from .media.sources import open_source
     from .takes.dolls import save_takes, track_dolls
     from .takes.take import ProgressBar, missing_frames
-    from .tracking.troupe import Troupe, doll_names
 
     if args.frames is not None:
         whole(args.frames, "the number of frames (--frames)", 1)
-    contours, blob_files = args.contour or [], args.blob or []
-    if not contours and not blob_files:
-        raise VoodooError("track needs an outline (--contour) or a blob (--blob).")
-    names = doll_names(
-        [contour_name(c) for c in contours] + [Path(b).name.split(".")[0] for b in blob_files]
-    )
     with open_source(args.video) as src:
-        blobs = []
-        if contours:
-            outlines = {n: load_contour_json(c) for n, c in zip(names, contours, strict=False)}
-            check_apart(outlines)
-            first = src.read_at(0).image
-            blobs += [build_blob(first, o, _blob_options(args)) for o in outlines.values()]
-            src.seek(0)
-        blobs += [load_blob(b) for b in blob_files]
-        troupe = Troupe(
-            dict(zip(names, blobs, strict=True)), frozen=dict.fromkeys(names, args.freeze or ())
-        )
+        troupe = _troupe(args, src)
         long_clip = src.count is None or src.count > 30
         bar = ProgressBar(src.count) if long_clip and not args.quiet else None
         # Frames are decoded on a second thread (a second core) while this one tracks.
@@ -113,14 +128,11 @@ def cmd_track(args) -> int:
 
 
 def cmd_live(args) -> int:
-    from .blob.build import build_blob
-    from .blob.model import load_blob
-    from .blob.outline import load_contour_json
     from .live import LiveStats, run_live
     from .media.sources import open_source
-    from .stream import OscSender
-    from .takes.take import Take, save_take
-    from .tracking import Tracker
+    from .stream import OscSender, osc_name
+    from .takes.dolls import save_takes
+    from .takes.take import Take
 
     if args.frames is not None:
         whole(args.frames, "the number of frames (--frames)", 1)
@@ -131,18 +143,11 @@ def cmd_live(args) -> int:
         except VoodooError as exc:  # tracking goes on without the stream
             print(f"warning: {exc} Tracking without streaming.", file=sys.stderr)
     with open_source(args.source) as src:
-        if args.blob:
-            blob = load_blob(args.blob)
-        else:
-            frame = src.read()
-            if frame is None:
-                raise VoodooError(f"{args.source} gave no frame.")
-            blob = build_blob(frame.image, load_contour_json(args.contour), _blob_options(args))
-            if not src.live:
-                src.seek(0)
-        doll = args.name or Path(args.contour or args.blob).stem.split(".")[0]
-        tracker = Tracker(blob)
-        where = f" -> OSC {sender.target} as /voodoo/{doll}" if sender else ""
+        troupe = _troupe(args, src, args.name)
+        where = ""
+        if sender:
+            dolls = ", ".join(f"/voodoo/{osc_name(n)}" for n in troupe.names)
+            where = f" -> OSC {sender.target} as {dolls}"
         print(f"live: tracking {args.source}{where}; Ctrl-C stops", file=sys.stderr)
         stats = LiveStats()
 
@@ -152,9 +157,10 @@ def cmd_live(args) -> int:
 
         interrupted = False
         try:
-            run_live(src, tracker, doll, sender, not args.fast, args.frames, stats, status)
+            run_live(src, troupe, sender, not args.fast, args.frames, stats, status)
         except KeyboardInterrupt:
             interrupted = True
+        fps = src.fps
     if sender is not None:
         for warning in sender.warnings:
             print(f"warning: {warning}", file=sys.stderr)
@@ -164,10 +170,18 @@ def cmd_live(args) -> int:
     msg = f"live: {stats.line()}" + (" (stopped)" if interrupted else "")
     if args.out:
         idx, times, results = zip(*stats.results, strict=True)
-        take = Take.from_results(
-            list(results), blob.triangles, tracker.parameter_names, idx, times, src.fps
-        )
-        save_take(args.out, take)
+        takes = {
+            n: Take.from_results(
+                [r[n] for r in results],
+                troupe.blobs[n].triangles,
+                troupe.trackers[n].parameter_names,
+                idx,
+                times,
+                fps,
+            )
+            for n in troupe.names
+        }
+        save_takes(args.out, takes)
         msg += f" -> {args.out}"
     print(msg)
     return 0
@@ -314,11 +328,15 @@ def build_parser() -> argparse.ArgumentParser:
 
     v = sub.add_parser("live", help="track a camera or a clip live and stream the motion over OSC")
     v.add_argument("source", help="camera:N, a camera index, a video file or a picture folder")
-    v.add_argument("--contour", help="outline on the first frame (JSON)")
-    v.add_argument("--blob", help="use this blob file instead of building one")
+    v.add_argument(
+        "--contour", action="append", help="outline on the first frame (JSON); repeatable"
+    )
+    v.add_argument(
+        "--blob", action="append", help="use this blob file instead of building one; repeatable"
+    )
     v.add_argument("--osc", metavar="HOST:PORT", help="send every frame there (OSC over UDP)")
     v.add_argument("--messages", action="store_true", help="plain messages, no bundles")
-    v.add_argument("--name", help="the doll's name in the addresses (default: the file's)")
+    v.add_argument("--name", help="one doll's name in the addresses (default: its file's)")
     v.add_argument("--fast", action="store_true", help="a file as fast as possible")
     v.add_argument("--frames", type=int, help="stop after this many frames")
     v.add_argument("--out", help="also write the take file (.npz)")

@@ -19,6 +19,7 @@ from .media.sources import FrameSource
 from .stream import OscSender
 from .takes.rig import unit
 from .tracking import Tracker, TrackResult
+from .tracking.troupe import Troupe
 
 
 @dataclass
@@ -27,8 +28,8 @@ class LiveStats:
 
     Attributes
     ----------
-    results : list of (frame index, time, TrackResult)
-        Every tracked frame, in order.
+    results : list of (frame index, time, dict of str to TrackResult)
+        Every tracked frame, in order: each doll's result by name.
     latencies : list of float
         Seconds from each frame being there to its result being sent.
     ready : list of float
@@ -76,26 +77,25 @@ def mode_values(tracker: Tracker, params: np.ndarray) -> dict:
 
 def run_live(
     source: FrameSource,
-    tracker: Tracker,
-    doll: str,
+    troupe: Troupe,
     sender: OscSender | None = None,
     paced: bool = True,
     limit: int | None = None,
     stats: LiveStats | None = None,
     every_second: Callable[[LiveStats], None] | None = None,
 ) -> LiveStats:
-    """Track ``source`` frame by frame, streaming each result.
+    """Track ``source`` frame by frame, streaming each doll's result.
 
     Parameters
     ----------
     source : FrameSource
         A camera (taken at its own pace) or a file (at its frame rate when ``paced``, else
         as fast as it can be tracked).
-    tracker : Tracker
-    doll : str
-        The name in the OSC addresses.
+    troupe : Troupe
+        The dolls (one or several); their names are the ones in the OSC addresses.
     sender : OscSender, optional
-        Where each frame goes (nowhere by default: tracking and measuring only).
+        Where each frame goes, one bundle per doll (nowhere by default: tracking and
+        measuring only).
     limit : int, optional
         Frames at most.
     stats : LiveStats, optional
@@ -118,19 +118,20 @@ def run_live(
                 if due > now:
                     time.sleep(due - now)
                 ready = max(ready, due)
-            res: TrackResult = tracker.track(frame.pixels)
+            results: dict[str, TrackResult] = troupe.track(frame.pixels)
             if sender is not None:
-                sender.send(
-                    doll,
-                    frame.index,
-                    frame.time,
-                    res.params[:4],
-                    mode_values(tracker, res.params),
-                    res.confidence,
-                    res.lost,
-                )
+                for doll, res in results.items():
+                    sender.send(
+                        doll,
+                        frame.index,
+                        frame.time,
+                        res.params[:4],
+                        mode_values(troupe.trackers[doll], res.params),
+                        res.confidence,
+                        res.lost,
+                    )
             done = time.monotonic()
-            stats.results.append((frame.index, frame.time, res))
+            stats.results.append((frame.index, frame.time, results))
             stats.latencies.append(done - ready)
             stats.ready.append(ready)
             stats.seconds = done - start

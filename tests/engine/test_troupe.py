@@ -230,3 +230,32 @@ def test_the_command_line_refuses_overlapping_outlines_and_twin_names(clip_on_di
         assert done.returncode == 2, done.stderr
         assert says in done.stderr and "Traceback" not in done.stderr
         assert not out.exists()
+
+
+def test_voodoo_live_streams_every_doll_on_every_frame(clip_on_disk, tmp_path, osc_receiver):
+    d, out = clip_on_disk, tmp_path / "live.npz"
+    rx = osc_receiver(240.0)
+    done = cli(d, "live", d / "clip.avi", "--contour", d / "left.contour.json", "--contour",
+               d / "right.contour.json", "--osc", f"127.0.0.1:{rx.port}", "--fast", "--quiet",
+               "--out", out)  # fmt: skip
+    rx.close()
+    assert done.returncode == 0, done.stderr
+    assert "/voodoo/left, /voodoo/right" in done.stderr
+    takes = load_takes(out)
+    got = {}  # (doll, frame) -> that doll's messages of that frame
+    for dgram in rx.datagrams:
+        msgs = dict(rx.messages(dgram))
+        (frame_address,) = [a for a in msgs if a.endswith("/frame")]
+        doll = frame_address.split("/")[2]
+        got[doll, msgs[frame_address][0]] = msgs
+    assert len(got) == 2 * 40 == len(rx.datagrams)
+    for doll, take in takes.items():
+        for row in range(len(take)):
+            msgs = got[doll, row]
+            np.testing.assert_allclose(
+                msgs[f"/voodoo/{doll}/pose"], take.params[row, :4].astype(np.float32), rtol=1e-6
+            )
+            assert msgs[f"/voodoo/{doll}/quality"][1] == int(take.lost[row])
+    named = cli(d, "live", d / "clip.avi", "--contour", d / "left.contour.json", "--contour",
+                d / "right.contour.json", "--name", "x", "--frames", "2")  # fmt: skip
+    assert named.returncode == 2 and "--name names one doll" in named.stderr

@@ -22,7 +22,7 @@ from ..blob.outline import load_contour_json
 from ..live import LiveStats, run_live
 from ..media.sources import open_source
 from ..stream import OscSender
-from ..tracking import Tracker
+from ..tracking.troupe import Troupe
 
 SAMPLES = Path(__file__).resolve().parents[2] / "samples"
 
@@ -52,9 +52,9 @@ def run_osc_latency(video: Path = SAMPLES / "sample_take.mp4") -> dict:
         with open_source(video) as src:
             blob = build_blob(src.read().image, load_contour_json(video.with_suffix(".json")))
             src.seek(0)
-            tracker = Tracker(blob)
+            troupe = Troupe({"doll": blob})
             with OscSender(f"127.0.0.1:{sock.getsockname()[1]}") as sender:
-                run_live(src, tracker, "doll", sender, paced=True, stats=stats)
+                run_live(src, troupe, sender, paced=True, stats=stats)
                 fps = src.fps
         time.sleep(0.2)
     finally:
