@@ -259,3 +259,22 @@ def test_voodoo_live_streams_every_doll_on_every_frame(clip_on_disk, tmp_path, o
     named = cli(d, "live", d / "clip.avi", "--contour", d / "left.contour.json", "--contour",
                 d / "right.contour.json", "--name", "x", "--frames", "2")  # fmt: skip
     assert named.returncode == 2 and "--name names one doll" in named.stderr
+
+
+def test_the_benchmark_part_judges_each_doll_and_times_them_together_and_alone(tmp_path):
+    from voodoo_addon.devtools.dolls import format_dolls, run_dolls
+
+    write_frames(tmp_path / "cards.mp4", [f.astype(np.float32) / 255 for f in _frames()[:30]])
+    for name, x0 in (("left", LEFT0), ("right", RIGHT0)):
+        (tmp_path / f"cards.{name}.json").write_text(json.dumps({"points": _outline(x0).tolist()}))
+    (result,) = run_dolls(tmp_path)
+    assert {(r["doll"], r["tracker"]) for r in result["rows"]} == {
+        (d, t) for d in ("left", "right") for t in ("ours", "klt", "dis")
+    }
+    speed = result["speed"]
+    assert (
+        speed["frames"] == 30 and speed["dolls"] == 2 and set(speed["alone"]) == {"left", "right"}
+    )
+    assert speed["together"][0] > 0 and speed["sum_alone_median"] > 0
+    table = format_dolls([result])
+    assert "| cards | left | ours |" in table and "| cards | 30 | 2 |" in table

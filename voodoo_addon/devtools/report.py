@@ -12,6 +12,9 @@ Parts (``--only`` picks some):
 ``live``
     Per-frame time (median, p95) of the tracker with every robust stage on, on the real
     footage and the hard clips, beside KLT's on the same frames (:mod:`.livespeed`).
+``dolls``
+    Several dolls in one take (``samples/multi``): each doll's accuracy beside KLT and DIS,
+    and the time per frame of the dolls together against each alone (:mod:`.dolls`).
 ``osc``
     Latency of the OSC stream on loopback, from a frame being there to its bundle received
     (:mod:`.osclatency`).
@@ -36,7 +39,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-PARTS = ("speed", "live", "osc", "clips", "calibration", "hd")
+PARTS = ("speed", "live", "dolls", "osc", "clips", "calibration", "hd")
 THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMEXPR_NUM_THREADS")
 
 
@@ -51,6 +54,10 @@ def measure(parts, quick: bool = False) -> dict:
         from .livespeed import run_live
 
         report["live"] = [{k: v for k, v in r.items() if k != "times_ms"} for r in run_live()]
+    if "dolls" in parts:
+        from .dolls import run_dolls
+
+        report["dolls"] = run_dolls()
     if "osc" in parts:
         from .osclatency import run_osc_latency
 
@@ -121,6 +128,13 @@ def sections(report: dict) -> dict:
         out["live"] = (
             f"{head} One thread.\n\n```sh\npython -m voodoo_addon bench --only live\n```\n\n"
             + format_live(report["live"])
+        )
+    if "dolls" in report:
+        from .dolls import format_dolls
+
+        out["dolls"] = (
+            f"{head} One thread.\n\n```sh\npython -m voodoo_addon bench --only dolls\n```\n\n"
+            + format_dolls(report["dolls"])
         )
     if "osc" in report:
         from .osclatency import format_osc
