@@ -278,3 +278,16 @@ def test_the_benchmark_part_judges_each_doll_and_times_them_together_and_alone(t
     assert speed["together"][0] > 0 and speed["sum_alone_median"] > 0
     table = format_dolls([result])
     assert "| cards | left | ours |" in table and "| cards | 30 | 2 |" in table
+
+
+def test_a_cover_frees_what_lies_outside_it_at_every_level():
+    from voodoo_addon.tracking.evaluation import Cover
+
+    mask = np.zeros((10, 20), bool)
+    mask[2:5, 3:8] = True  # frame pixels x 13..17, y 32..34
+    cover = Cover(mask, (10, 30))
+    free = cover.free(np.array([13.0, 17.0, 18.0, 12.0, 500.0]), np.array([32.0, 34, 34, 33, 0]), 1)
+    assert free.tolist() == [False, False, True, True, True]
+    # at level 1 (scale 0.5), level pixel 7 is frame pixel 14
+    assert cover.free(np.array([7.0, 2.0]), np.array([16.5, 16.5]), 0.5).tolist() == [False, True]
+    assert cover.free(np.array([100.0]), np.array([100.0]), 1) is None  # far away: nothing

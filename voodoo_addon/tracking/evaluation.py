@@ -224,26 +224,26 @@ class Cover:
 
     Parameters
     ----------
-    mask : (H, W) bool
-        True where the blob is covered, frame pixels.
+    mask : (h, w) bool
+        True where the blob is covered, frame pixels from ``origin``.
+    origin : (x, y) int
+        The frame pixel of ``mask[0, 0]``; outside the mask nothing is covered.
     """
 
-    def __init__(self, mask: np.ndarray):
+    def __init__(self, mask: np.ndarray, origin=(0, 0)):
         self.mask = np.ascontiguousarray(mask, dtype=bool)
-        rows, cols = np.nonzero(self.mask.any(axis=1))[0], np.nonzero(self.mask.any(axis=0))[0]
-        self.box = None if not len(rows) else (cols[0], rows[0], cols[-1], rows[-1])
+        self.origin = (int(origin[0]), int(origin[1]))
 
     def free(self, x: np.ndarray, y: np.ndarray, scale: float) -> np.ndarray | None:
         """Of level pixels (x, y) at ``scale``, those not covered; None when none is."""
-        if self.box is None:
-            return None
         h, w = self.mask.shape
-        fx = np.clip(np.rint(x / scale), 0, w - 1).astype(np.intp)
-        fy = np.clip(np.rint(y / scale), 0, h - 1).astype(np.intp)
-        x0, y0, x1, y1 = self.box
-        if fx.max() < x0 or fx.min() > x1 or fy.max() < y0 or fy.min() > y1:
+        fx = np.rint(x / scale).astype(np.intp) - self.origin[0]
+        fy = np.rint(y / scale).astype(np.intp) - self.origin[1]
+        if fx.max() < 0 or fx.min() >= w or fy.max() < 0 or fy.min() >= h:
             return None
-        free = ~self.mask[fy, fx]
+        inside = (fx >= 0) & (fx < w) & (fy >= 0) & (fy < h)
+        free = np.ones(len(fx), bool)
+        free[inside] = ~self.mask[fy[inside], fx[inside]]
         return None if free.all() else free
 
 

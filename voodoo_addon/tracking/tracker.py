@@ -183,8 +183,6 @@ class Tracker:
         TrackResult
         """
         frame = self._check_frame(frame)
-        if cover is not None and cover.mask.shape != frame.shape[:2]:
-            raise VoodooError("A cover must be a mask of the frame's size.")
         self.fitter.set_cover(cover)
         with single_blas_thread():
             return self._track(frame)

@@ -39,6 +39,9 @@ ORDER_MARGIN = 0.05
 #: the edge mix the two dolls.
 COVER_MARGIN = 3
 COVER_GROWTH = 0.04
+#: A doll behind gets a cover when the front doll's box comes this close (pixels) to where
+#: it was in the last frame: nearer than a frame's motion can bring them together.
+COVER_REACH = 64.0
 #: Sub-pixel bits for rasterising a mesh's footprint.
 _SHIFT = 2
 
@@ -87,8 +90,10 @@ class Troupe:
             for n, b in self.blobs.items()
         }
         self._footprints = {n: _Template(b) for n, b in self.blobs.items()}
-        #: (front, behind) for each pair whose order is known.
+        #: The doll in front, for each pair whose order is known.
         self._front: dict[frozenset, str] = {}
+        #: Each doll's nodes in the last frame.
+        self._last: dict[str, np.ndarray] = {}
 
     def __len__(self) -> int:
         return len(self.names)
@@ -98,6 +103,7 @@ class Troupe:
         for tracker in self.trackers.values():
             tracker.reset()
         self._front.clear()
+        self._last.clear()
 
     def track(self, frame: np.ndarray) -> dict[str, TrackResult]:
         """Register every doll to one frame; each doll's result by name.
@@ -111,10 +117,20 @@ class Troupe:
             return {name: self.trackers[name].track(frame)}
         results: dict[str, TrackResult] = {}
         for name in self._depth_order():
-            fronts = [f for f in results if self.in_front(f, name) == f and not results[f].lost]
+            near = self._last.get(name)
+            fronts = [
+                f
+                for f in results
+                if self.in_front(f, name) == f
+                and not results[f].lost
+                and near is not None
+                and _boxes_meet(results[f].nodes, near, COVER_REACH)
+            ]
             cover = self._cover(frame.shape[:2], [results[f] for f in fronts], fronts)
             results[name] = self.trackers[name].track(frame, cover)
         results = self._resolve_overlaps(frame, results)
+        for name, r in results.items():
+            self._last[name] = r.nodes
         return {name: results[name] for name in self.names}
 
     def _depth_order(self) -> list[str]:
@@ -128,18 +144,23 @@ class Troupe:
         """The frame pixels under the meshes of ``results``, grown by a margin; None if none."""
         if not results:
             return None
-        mask = np.zeros(shape, np.uint8)
-        for r, name in zip(results, names, strict=True):
+        grows = [max(COVER_MARGIN, int(round(COVER_GROWTH * self.blobs[n].length))) for n in names]
+        pad = max(grows) + 1
+        nodes = np.vstack([r.nodes for r in results])
+        h, w = shape
+        x0, y0 = np.clip(np.floor(nodes.min(axis=0)).astype(int) - pad, 0, [w, h])
+        x1, y1 = np.clip(np.ceil(nodes.max(axis=0)).astype(int) + pad + 1, 0, [w, h])
+        if x1 <= x0 or y1 <= y0:
+            return None
+        mask = np.zeros((y1 - y0, x1 - x0), np.uint8)
+        for r, name, grow in zip(results, names, grows, strict=True):
+            one = np.zeros_like(mask)
             tri = self._footprints[name].triangles
-            polys = np.round(r.nodes[tri] * (1 << _SHIFT)).astype(np.int32)
-            cv2.fillPoly(mask, list(polys), 1, lineType=cv2.LINE_8, shift=_SHIFT)
-            grow = max(COVER_MARGIN, int(round(COVER_GROWTH * self.blobs[name].length)))
-            lo = np.maximum(np.floor(r.nodes.min(axis=0)).astype(int) - grow - 1, 0)
-            hi = np.ceil(r.nodes.max(axis=0)).astype(int) + grow + 2
-            sub = mask[lo[1] : hi[1], lo[0] : hi[0]]
+            polys = np.round((r.nodes[tri] - [x0, y0]) * (1 << _SHIFT)).astype(np.int32)
+            cv2.fillPoly(one, list(polys), 1, lineType=cv2.LINE_8, shift=_SHIFT)
             kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * grow + 1, 2 * grow + 1))
-            sub[:] = cv2.dilate(sub, kernel)
-        return Cover(mask.astype(bool)) if mask.any() else None
+            mask |= cv2.dilate(one, kernel)
+        return Cover(mask.astype(bool), (x0, y0)) if mask.any() else None
 
     def in_front(self, a: str, b: str) -> str | None:
         """The name of whichever of ``a`` and ``b`` was last seen in front, if known."""
@@ -237,10 +258,11 @@ class _Template:
         return float(np.corrcoef(t, s)[0, 1])
 
 
-def _boxes_meet(p: np.ndarray, q: np.ndarray) -> bool:
+def _boxes_meet(p: np.ndarray, q: np.ndarray, reach: float = 0.0) -> bool:
+    """Whether the boxes of two point sets meet, or come within ``reach`` pixels."""
     lo = np.maximum(p.min(axis=0), q.min(axis=0))
     hi = np.minimum(p.max(axis=0), q.max(axis=0))
-    return bool((lo <= hi).all())
+    return bool((lo <= hi + reach).all())
 
 
 def _inside_mesh(points: np.ndarray, nodes: np.ndarray, triangles: np.ndarray) -> np.ndarray:
