@@ -25,7 +25,8 @@ mesa:
 
 ## Run the whole test suite: everything (engine, packaging -- the extension zips and pip install --,
 ## the real Blender headless) on Blender 5.0, then the same in Blender 5.2 and 5.1
-## (test-blender-next). About 5 + 7 minutes on 2 cores once the packages are installed.
+## (test-blender-next). About 7 + 9 minutes on 2 cores once the packages are installed; a fresh
+## clone with nothing installed took 17 minutes in all (.ci/run).
 test: setup mesa
 	$(BIN)/python -m pytest
 	@$(MAKE) --no-print-directory test-blender-next

@@ -18,10 +18,12 @@ from .blob.segment import mask_contour, segment_contour, segment_mask
 from .errors import VoodooError
 from .media.images import to_float_rgb
 from .media.sources import FrameSource, open_source, read_image
+from .takes.dolls import load_takes, save_takes, track_dolls
 from .takes.take import Take, load_take, save_take, track_source
 from .tracking import Tracker, TrackerOptions, TrackResult
 from .tracking.norms import LorentzianNorm, QuadraticNorm, RobustNorm
 from .tracking.params import ParamLayout
+from .tracking.troupe import Troupe
 from .tracking.warp import CpuWarp, WarpBackend, WarpGeometry
 
 __all__ = [
@@ -38,6 +40,7 @@ __all__ = [
     "TrackResult",
     "Tracker",
     "TrackerOptions",
+    "Troupe",
     "VoodooError",
     "WarpBackend",
     "WarpGeometry",
@@ -47,16 +50,19 @@ __all__ = [
     "load_blob",
     "load_contour_json",
     "load_take",
+    "load_takes",
     "mask_contour",
     "open_source",
     "read_image",
     "save_blob",
     "save_contour_json",
     "save_take",
+    "save_takes",
     "segment_contour",
     "segment_mask",
     "simplify_contour",
     "to_float_rgb",
+    "track_dolls",
     "track_source",
     "validate_contour",
 ]
