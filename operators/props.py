@@ -1,4 +1,4 @@
-"""Settings saved with the .blend: ``scene.voodoo`` and its mode list."""
+"""Settings saved with the .blend: ``scene.voodoo``, its mode list and its dolls."""
 
 import bpy
 from bpy.props import (
@@ -17,8 +17,16 @@ from ..voodoo_addon.takes.rig import MAX_GAIN
 
 def _modes_changed(self, context):
     from .apply import refresh_modes
+    from .dolls import switching
 
-    refresh_modes(context.scene)
+    if not switching():
+        refresh_modes(context.scene)
+
+
+def _doll_chosen(self, context):
+    from .dolls import show_doll
+
+    show_doll(self, self.active_doll)
 
 
 def _is_mesh(self, obj):
@@ -52,6 +60,29 @@ class VOODOO_PG_mode(bpy.types.PropertyGroup):
         update=_modes_changed,
     )
     stiffness: FloatProperty(name="Stiffness", description="Modal stiffness (w^2)")
+
+
+_AXES = [
+    ("XZ", "XZ", "Front view: doll right is +X, doll up is +Z"),
+    ("XY", "XY", "Top view: doll right is +X, doll up is +Y"),
+    ("YZ", "YZ", "Side view: doll right is +Y, doll up is +Z"),
+]
+
+
+class VOODOO_PG_doll(bpy.types.PropertyGroup):
+    """One doll of the scene (``name`` is its name): what the scene's own outline, blob,
+    modes, target and apply settings hold while it is the doll shown (see ``dolls.py``).
+    """
+
+    contour: CollectionProperty(type=VOODOO_PG_point)
+    blob: PointerProperty(name="Blob", type=bpy.types.Mesh)
+    modes: CollectionProperty(type=VOODOO_PG_mode)
+    active_mode: IntProperty(name="Active Mode")
+    target: PointerProperty(name="Target", type=bpy.types.Object, poll=_is_mesh)
+    axes: EnumProperty(name="Axes", items=_AXES, default="XZ")
+    apply_location: BoolProperty(name="Location", default=True)
+    apply_rotation: BoolProperty(name="Rotation", default=True)
+    apply_scale: BoolProperty(name="Scale", default=True)
 
 
 class VOODOO_PG_settings(bpy.types.PropertyGroup):
@@ -142,19 +173,21 @@ class VOODOO_PG_settings(bpy.types.PropertyGroup):
     axes: EnumProperty(
         name="Axes",
         description="Plane of the target the doll is laid onto",
-        items=[
-            ("XZ", "XZ", "Front view: doll right is +X, doll up is +Z"),
-            ("XY", "XY", "Top view: doll right is +X, doll up is +Y"),
-            ("YZ", "YZ", "Side view: doll right is +Y, doll up is +Z"),
-        ],
+        items=_AXES,
         default="XZ",
     )
     apply_location: BoolProperty(name="Location", default=True, update=_modes_changed)
     apply_rotation: BoolProperty(name="Rotation", default=True, update=_modes_changed)
     apply_scale: BoolProperty(name="Scale", default=True, update=_modes_changed)
 
+    # Dolls: with none listed, the fields above are the scene's one doll
+    dolls: CollectionProperty(type=VOODOO_PG_doll)
+    active_doll: IntProperty(name="Doll", update=_doll_chosen)
+    #: The doll whose settings the fields above hold (set by ``dolls.show_doll``).
+    shown_doll: IntProperty(options={"HIDDEN"})
 
-classes = (VOODOO_PG_point, VOODOO_PG_mode, VOODOO_PG_settings)
+
+classes = (VOODOO_PG_point, VOODOO_PG_mode, VOODOO_PG_doll, VOODOO_PG_settings)
 
 
 def register():

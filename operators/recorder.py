@@ -435,6 +435,11 @@ def _alive(obj) -> bool:
     return True
 
 
+def recording_now() -> bool:
+    """A take is being recorded in this session."""
+    return bool(_recording)
+
+
 def interrupted_takes() -> list:
     """(journal path, blob mesh) of takes an interrupted recording left on disk."""
     return [(p, m) for p, m in recoverable_journals() if p not in _recording]

@@ -101,7 +101,9 @@ def stored_blob(mesh) -> ActiveBlob:
 
 def blob_users(mesh) -> list:
     """What keeps a blob in use: scenes that have it as their blob, objects its takes drive."""
-    users = [f"scene {s.name!r}" for s in bpy.data.scenes if s.voodoo.blob == mesh]
+    from .dolls import blobs_in_use
+
+    users = [f"scene {s.name!r}" for s in bpy.data.scenes if mesh in blobs_in_use(s)]
     users += [f"object {o.name!r}" for o in bpy.data.objects if linked_to(o, mesh)]
     return users
 

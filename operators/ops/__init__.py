@@ -1,6 +1,7 @@
 """The operators, one per module, in the order an animator meets them."""
 
 from . import (
+    add_doll,
     apply_take,
     build_blob,
     capture_frame,
@@ -9,6 +10,7 @@ from . import (
     contour_from_mask,
     record_take,
     recover_takes,
+    remove_doll,
     remove_unused_blobs,
     select_modes,
     sketch_contour,
@@ -17,6 +19,8 @@ from . import (
 )
 
 _modules = (
+    add_doll,
+    remove_doll,
     capture_frame,
     contour_from_mask,
     contour_auto,

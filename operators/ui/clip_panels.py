@@ -32,6 +32,41 @@ class VOODOO_PT_source(_ClipPanel, bpy.types.Panel):
             )
 
 
+class VOODOO_UL_dolls(bpy.types.UIList):
+    """The scene's dolls: name (double-click to rename), blob and target"""
+
+    def draw_item(self, context, layout, data, item, icon, active_data, active_propname, index):
+        s = context.scene.voodoo
+        shown = index == s.shown_doll
+        blob = s.blob if shown else item.blob
+        target = s.target if shown else item.target
+        row = layout.row(align=True)
+        row.prop(item, "name", text="", emboss=False, icon="OUTLINER_OB_ARMATURE")
+        row.label(text=blob.name if blob is not None else "no blob", icon="MESH_GRID")
+        row.label(text=target.name if target is not None else "no target", icon="OBJECT_DATA")
+
+
+class VOODOO_PT_dolls(_ClipPanel, bpy.types.Panel):
+    """Several dolls in one scene, each with its own outline, blob, modes and target"""
+
+    bl_label = "Dolls"
+
+    def draw(self, context):
+        s = context.scene.voodoo
+        layout = self.layout
+        if not len(s.dolls):
+            row = layout.row()
+            row.label(text="One doll")
+            row.operator("voodoo.add_doll", text="", icon="ADD")
+            return
+        row = layout.row()
+        row.template_list("VOODOO_UL_dolls", "", s, "dolls", s, "active_doll", rows=3)
+        col = row.column(align=True)
+        col.operator("voodoo.add_doll", text="", icon="ADD")
+        col.operator("voodoo.remove_doll", text="", icon="REMOVE")
+        layout.label(text="The panels below show the selected doll", icon="INFO")
+
+
 class VOODOO_PT_outline(_ClipPanel, bpy.types.Panel):
     """The region of the object to track"""
 
@@ -112,4 +147,11 @@ class VOODOO_PT_record(_ClipPanel, bpy.types.Panel):
             layout.operator("voodoo.recover_takes", icon="RECOVER_LAST")
 
 
-classes = (VOODOO_PT_source, VOODOO_PT_outline, VOODOO_PT_blob, VOODOO_PT_record)
+classes = (
+    VOODOO_UL_dolls,
+    VOODOO_PT_source,
+    VOODOO_PT_dolls,
+    VOODOO_PT_outline,
+    VOODOO_PT_blob,
+    VOODOO_PT_record,
+)
