@@ -142,19 +142,21 @@ def _mute_other_keys(obj, blob_mesh, s, chosen) -> None:
             kb.mute = True
 
 
-def _take_action(obj, blob_mesh, take_name, new_layer):
-    """The action to write the take into, and whether it is rewritten in place."""
+def _take_action(obj, blob_mesh, take_name, new_layer, name):
+    """The action (called ``name``) to write the take into, and whether it is rewritten in
+    place.
+    """
     ad = obj.animation_data
     active = ad.action if ad is not None else None
     if not new_layer and is_take_action(active, blob_mesh, take_name):
         return active, True
-    existing = find_action(take_name)
+    existing = find_action(name)
     push_to_nla(obj)
     push_to_nla(obj.data.shape_keys)
     if not new_layer and is_take_action(existing, blob_mesh, take_name):
         if not in_nla(obj, existing) and not in_nla(obj.data.shape_keys, existing):
             return existing, False  # the take's action gets a slot for this target too
-    action = bpy.data.actions.new(take_name)
+    action = bpy.data.actions.new(name)
     tag_action(action, blob_mesh, take_name)
     return action, False
 
@@ -180,8 +182,14 @@ def write_transforms(obj, bag, rig, take, frames, rest_matrix, use) -> None:
                 write_curve(bag, path, i, f[:1], rest[:, i], TRANSFORM_GROUP)
 
 
-def apply_take(scene, obj, blob_mesh, take_name: str, new_layer: bool = False) -> dict:
+def apply_take(
+    scene, obj, blob_mesh, take_name: str, new_layer: bool = False, settings=None, doll=None
+) -> dict:
     """Write a stored take onto ``obj`` (one undo step when called from an operator).
+
+    ``settings`` are the doll's (modes, gains, axes, apply switches; default: the scene's
+    fields, the doll shown). ``doll``: the doll's name, when it is one of several: its
+    action is then named after the take and the doll.
 
     Returns
     -------
@@ -191,7 +199,7 @@ def apply_take(scene, obj, blob_mesh, take_name: str, new_layer: bool = False) -
         there), ``attention`` (marked stretches).
     """
     check_target(obj)
-    s = scene.voodoo
+    s = settings if settings is not None else scene.voodoo
     blob = stored_blob(blob_mesh)
     stored = stored_take(blob_mesh, take_name)
     take, frames = stored.take, stored.frames
@@ -209,7 +217,8 @@ def apply_take(scene, obj, blob_mesh, take_name: str, new_layer: bool = False) -
         rest_matrix = np.array(link.rest_matrix).reshape(4, 4)
     else:
         rest_matrix = matrix_at(scene, obj, stored.rest_frame)
-    action, in_place = _take_action(obj, blob_mesh, take_name, new_layer)
+    name = take_name if doll is None else f"{take_name} {doll}"
+    action, in_place = _take_action(obj, blob_mesh, take_name, new_layer, name)
 
     shapes = [shape_for_mode(obj, blob_mesh, m, rig.offsets[i], rest) for i, m in enumerate(modes)]
     _mute_other_keys(obj, blob_mesh, s, modes)

@@ -12,26 +12,24 @@ from contextlib import ExitStack
 import bpy
 import numpy as np
 
+from ..voodoo_addon.blob.outline import check_apart
 from ..voodoo_addon.errors import VoodooError
 from ..voodoo_addon.media.images import to_uint8_bgr
 from ..voodoo_addon.media.prefetch import PENDING, Prefetcher
 from ..voodoo_addon.media.sources import open_source
 from ..voodoo_addon.stream import OscSender
-from ..voodoo_addon.takes.journal import SUFFIX, JournalWriter, read_journal
-from ..voodoo_addon.takes.rig import Rig, fit_mapping, unit
-from ..voodoo_addon.takes.take import Take
+from ..voodoo_addon.takes.journal import read_journal
 from ..voodoo_addon.tracking import Tracker
+from ..voodoo_addon.tracking.troupe import Troupe, doll_names
 from . import drawing
-from .apply import apply_take, check_target, layout_for, rest_vertices, shape_for_mode
 from .clips import active_clip, open_clip, scene_frame
+from .doll_run import DollRun, alive
+from .dolls import doll_settings
 from .gpu_warp import make_backend
 from .storage import (
-    blob_id,
     footage_dir,
     recoverable_journals,
-    recovery_dir,
     store_take,
-    stored_blob,
     stored_take,
     take_names,
     unique_take_name,
@@ -50,6 +48,46 @@ def _frozen(s) -> list:
         ("scale", s.freeze_scale),
     )
     return [name for name, on in pairs if on]
+
+
+def _check_dolls(dolls) -> None:
+    """Several dolls: distinct names, distinct blobs and targets, outlines apart."""
+    if len(dolls) < 2:
+        return
+    doll_names([d.name for d in dolls])
+    for kind in ("blob_mesh", "target"):
+        seen = {}
+        for d in dolls:
+            thing = getattr(d, kind)
+            if thing is None:
+                continue
+            if thing.name in seen:
+                what = "blob" if kind == "blob_mesh" else "target"
+                raise VoodooError(
+                    f"Dolls {seen[thing.name]!r} and {d.name!r} have the same {what} "
+                    f"{thing.name!r}: give each doll its own."
+                )
+            seen[thing.name] = d.name
+    check_apart({d.name: d.blob.contour for d in dolls})
+
+
+def _unique_take_name(dolls, base: str) -> str:
+    """A take name no doll has a take or an action of yet (``base``, ``base.002``, ...)."""
+    name = base
+    for _ in range(1000):
+        unique = [unique_take_name(d.blob_mesh, name) for d in dolls]
+        taken = {f"{name} {d.name}" for d in dolls if d.several} & set(bpy.data.actions.keys())
+        if all(u == name for u in unique) and not taken:
+            return name
+        name = next((u for u in unique if u != name), None) or _bump(name)
+    raise VoodooError(f"No free take name after {base!r}.")
+
+
+def _bump(name: str) -> str:
+    stem, _, number = name.rpartition(".")
+    if stem and number.isdigit():
+        return f"{stem}.{int(number) + 1:03d}"
+    return f"{name}.002"
 
 
 class Recorder:
@@ -80,56 +118,50 @@ class Recorder:
         s = scene.voodoo
         self.scene = scene
         self.live = live
-        self.blob_mesh = s.blob
-        self.blob = stored_blob(s.blob)
-        self.target = s.target
-        if self.target is not None:
-            check_target(self.target)
-            fit_mapping(self.blob, rest_vertices(self.target), s.axes)  # fail before tracking
+        listed = doll_settings(s)
+        self.dolls = [DollRun(name, d, len(listed) > 1) for name, d in listed]
+        _check_dolls(self.dolls)
         self.notes: list[str] = []
-        self.rows = []  # (source index, time, scene frame, TrackResult)
-        self.previous = stored_take(self.blob_mesh, resume) if resume else None
-        self._preview = None
+        self.rows = []  # (source index, time, scene frame, {doll name: TrackResult})
+        if resume:
+            for doll in self.dolls:
+                doll.resume(resume)
         self.writer = self.footage = self.clip = None
         with ExitStack() as stack:
             self._open_source(context, s, max_frames, stack)
-            size = tuple(int(v) for v in self.blob.frame_size)
-            if tuple(self.source.size) != size:
-                raise VoodooError(
-                    f"The source is {self.source.size[0]}x{self.source.size[1]} but the blob "
-                    f"was built on a {size[0]}x{size[1]} frame; capture and build again."
-                )
+            for doll in self.dolls:
+                size = tuple(int(v) for v in doll.blob.frame_size)
+                if tuple(self.source.size) != size:
+                    which = f"blob of doll {doll.name!r}" if doll.several else "blob"
+                    raise VoodooError(
+                        f"The source is {self.source.size[0]}x{self.source.size[1]} but the "
+                        f"{which} was built on a {size[0]}x{size[1]} frame; capture and "
+                        "build again."
+                    )
             self.backend, self.backend_note = make_backend(s.warp)
             stack.callback(self.backend.close)
-            self.tracker = Tracker(self.blob, backend=self.backend, frozen=_frozen(s))
-            if self.previous is not None:
-                self.tracker.reset(self.previous.take.params[-1])
-                self.take_name = resume
-            else:
-                self.take_name = unique_take_name(self.blob_mesh, s.take_name or "Take")
-            self.journal = JournalWriter(
-                recovery_dir() / f"{blob_id(self.blob_mesh)}-{bpy.path.clean_name(self.take_name)}"
-                f"{SUFFIX}",
-                self.blob.triangles,
-                self.blob.n_nodes,
-                self.tracker.parameter_names,
-                self.source.fps,
-                meta={
-                    "blob_id": blob_id(self.blob_mesh),
-                    "blob": self.blob_mesh.name,
-                    "take": self.take_name,
-                    "extends": resume,
-                    "rest_frame": self.rest_frame,
-                },
+            for doll in self.dolls:
+                doll.tracker = Tracker(doll.blob, backend=self.backend, frozen=_frozen(s))
+                if doll.previous is not None:
+                    doll.tracker.reset(doll.previous.take.params[-1])
+            self.troupe = Troupe(
+                {d.name: d.blob for d in self.dolls},
+                trackers={d.name: d.tracker for d in self.dolls},
             )
-            stack.callback(self.journal.close)
-            _recording.add(self.journal.path)
-            stack.callback(_recording.discard, self.journal.path)
+            self.take_name = resume or _unique_take_name(self.dolls, s.take_name or "Take")
+            for doll in self.dolls:
+                fps = self.source.fps
+                journal = doll.open_journal(self.take_name, fps, self.rest_frame, resume)
+                stack.callback(journal.close)
+                _recording.add(journal.path)
+                stack.callback(_recording.discard, journal.path)
             if s.source == "CAMERA":
                 self._open_writer(stack)
-            if self.target is not None and live:
-                self._prepare_preview()
-                stack.callback(self._drop_preview)
+            if live:
+                for doll in self.dolls:
+                    if doll.target is not None:
+                        doll.prepare_preview()
+                        stack.callback(doll.drop_preview)
             stack.callback(drawing.live_state.clear)
             self.stream = self._open_stream(s)
             if self.stream is not None:
@@ -146,6 +178,27 @@ class Recorder:
         self.rate = 0.0
         self.latency = 0.0
         self._last_tracked = None
+
+    # The first doll, as a take of one doll has it (scripts and the panels use these).
+    @property
+    def blob_mesh(self):
+        return self.dolls[0].blob_mesh
+
+    @property
+    def blob(self):
+        return self.dolls[0].blob
+
+    @property
+    def target(self):
+        return self.dolls[0].target
+
+    @property
+    def tracker(self):
+        return self.dolls[0].tracker
+
+    @property
+    def previous(self):
+        return self.dolls[0].previous
 
     def _open_source(self, context, s, max_frames, stack) -> None:
         scene = self.scene
@@ -185,10 +238,11 @@ class Recorder:
         A target deleted during the take ends it (the take is kept); a stand-in deleted
         during the take only ends the live preview.
         """
-        if self.target is not None and not _alive(self.target):
-            self.target = None  # the stand-in goes when the recorder closes
-            self.notes.append("The target was deleted during the take; recording stopped.")
-            return False
+        for doll in self.dolls:
+            if doll.target is not None and not alive(doll.target):
+                doll.target = None  # the stand-in goes when the recorder closes
+                self.notes.append("The target was deleted during the take; recording stopped.")
+                return False
         if self.max_frames is not None and len(self.rows) >= self.max_frames:
             return False
         # A camera is not waited for (Blender stays responsive); a clip is read ahead.
@@ -197,28 +251,34 @@ class Recorder:
             return True
         if frame is None:
             return False
-        res = self.tracker.track(frame.pixels)
+        results = self.troupe.track(frame.pixels)
         self._measure()
         f = self._frame_of(frame)
         if self.rows and self.rows[-1][2] == f:  # two camera frames in one scene frame
             self.rows.pop()
-        self.rows.append((frame.index, frame.time, f, res))
-        self.journal.add(res, frame.index, frame.time, f)
-        if self.stream is not None:
-            self._send(frame, res)
+        self.rows.append((frame.index, frame.time, f, results))
+        for doll in self.dolls:
+            res = results[doll.name]
+            doll.journal.add(res, frame.index, frame.time, f)
+            if self.stream is not None:
+                doll.send(self.stream, frame, res)
+        first = results[self.dolls[0].name]
         drawing.live_state.update(
-            nodes=res.nodes,
+            nodes=first.nodes,
             triangles=self.blob.triangles,
-            lost=res.lost,
+            lost=first.lost,
+            meshes=[(results[d.name].nodes, d.blob.triangles, results[d.name].lost)
+                    for d in self.dolls],
             rate=self.rate,
             latency=self.latency,
             behind=self.behind,
-        )
+        )  # fmt: skip
         # Behind the camera, the live view skips to the newest frames; the take does not.
         if self.live and self.behind <= 1:
             self.scene.frame_set(f)
-            if self._preview is not None and not res.lost:
-                self._pose(res.params)
+            for doll in self.dolls:
+                if not results[doll.name].lost:
+                    doll.pose(results[doll.name].params, self.notes)
         return self.max_frames is None or len(self.rows) < self.max_frames
 
     def _open_stream(self, s):
@@ -230,25 +290,9 @@ class Recorder:
         except VoodooError as exc:
             self.notes.append(f"{exc} The take was recorded without streaming.")
             return None
-        lay = self.tracker.layout
-        on = [m for m in s.modes if m.enabled and m.index < lay.n_modes]
-        self._streamed = (
-            [m.name for m in on],
-            np.array([lay.modes.start + m.index for m in on], dtype=np.int64),
-            np.array([m.gain for m in on]) / unit(self.blob),
-        )
+        for doll in self.dolls:
+            doll.prepare_stream()
         return sender
-
-    def _send(self, frame, res) -> None:
-        """One tracked frame to the stream: the modes that apply, as shape-key values
-        times their gains.
-        """
-        names, cols, scale = self._streamed
-        values = dict(zip(names, (res.params[cols] * scale).tolist(), strict=True))
-        doll = self.blob_mesh.name
-        self.stream.send(
-            doll, frame.index, frame.time, res.params[:4], values, res.confidence, res.lost
-        )
 
     def _measure(self) -> None:
         now = time.monotonic()
@@ -283,59 +327,6 @@ class Recorder:
         if self.source.live and not self.feed.reading:
             total = len(self.rows) + self.behind  # recording ended: what is left to track
         return min(len(self.rows) / total, 1.0) if total else 0.0
-
-    # ------------------------------------------------------------------ live preview
-
-    def _prepare_preview(self):
-        """Pose a stand-in copy of the target live; the target stays untouched (hidden).
-
-        The copy goes away when the take ends; only then is the target animated.
-        """
-        s = self.scene.voodoo
-        src = self.target
-        copy = src.copy()
-        copy.data = src.data.copy()
-        copy.name = f"{src.name} (recording)"
-        copy.animation_data_clear()
-        if copy.data.shape_keys is not None:
-            copy.data.shape_keys.animation_data_clear()
-        for coll in src.users_collection:
-            coll.objects.link(copy)
-        src.hide_set(True)
-        rest = rest_vertices(copy)
-        modes = [m for m in s.modes if m.enabled and m.index < self.blob.n_modes]
-        use = (s.apply_location, s.apply_rotation, s.apply_scale)
-        rig = Rig(self.blob, self.tracker.layout, rest, s.axes, [m.index for m in modes], use)
-        keys = [
-            shape_for_mode(copy, self.blob_mesh, m, rig.offsets[i], rest)
-            for i, m in enumerate(modes)
-        ]
-        self._preview = (copy, rig, keys, np.array(copy.matrix_basis))
-
-    def _pose(self, params):
-        from mathutils import Matrix
-
-        copy, rig, keys, rest_matrix = self._preview
-        if not _alive(copy):  # the animator deleted the stand-in: record on without it
-            self._drop_preview()
-            self.notes.append("The live stand-in was deleted; the take was recorded without it.")
-            return
-        values, transform = rig.pose(params)
-        for kb, value in zip(keys, values, strict=True):
-            kb.value = float(np.clip(value, kb.slider_min, kb.slider_max))
-        copy.matrix_basis = Matrix((rest_matrix @ transform).tolist())
-
-    def _drop_preview(self):
-        if self._preview is not None:
-            copy = self._preview[0]
-            self._preview = None
-            if _alive(copy):
-                mesh = copy.data
-                bpy.data.objects.remove(copy)
-                if mesh.users == 0:
-                    bpy.data.meshes.remove(mesh)
-        if self.target is not None and _alive(self.target):
-            self.target.hide_set(False)
 
     # ------------------------------------------------------------------ footage
 
@@ -376,34 +367,24 @@ class Recorder:
             )
         self.close()
         if not self.rows:
-            self.journal.discard()
+            for doll in self.dolls:
+                doll.journal.discard()
             return None
-        take = Take.from_results(
-            [r for *_, r in self.rows],
-            self.blob.triangles,
-            self.tracker.parameter_names,
-            [i for i, *_ in self.rows],
-            [t for _, t, *_ in self.rows],
-            self.source.fps,
-        )
-        layout_for(self.blob, take)  # sanity: the layout must round-trip
-        frames = [f for *_, f, _ in self.rows]
-        if self.previous is not None:
-            take = self.previous.take.extended(take)
-            frames = self.previous.frames.tolist() + frames
-        store_take(self.blob_mesh, self.take_name, take, frames, self.rest_frame)
-        self.journal.discard()
+        for doll in self.dolls:
+            doll.keep(self.take_name, self.rows, self.rest_frame, self.source.fps)
         self.scene.voodoo.last_take = self.take_name
         return self.take_name
 
     def finish(self) -> dict:
-        """Store the take with the blob and apply it to the target (if any).
+        """Store the take with each doll's blob and apply it to each doll's target (if any).
 
         Returns
         -------
         dict
-            ``take`` (name), ``frames`` (tracked now), ``lost`` (scene frames not keyed),
-            ``applied`` (bool), ``clip`` (the footage clip for camera takes), ``notes``.
+            ``take`` (name), ``frames`` (tracked now), ``lost`` (scene frames not keyed, of
+            any doll), ``applied`` (bool), ``action`` (the first applied doll's) and
+            ``actions`` (every applied doll's, by doll), ``clip`` (the footage clip for camera
+            takes), ``notes``.
         """
         if self.keep() is None:
             raise VoodooError("No frame was tracked; nothing to keep.")
@@ -412,27 +393,26 @@ class Recorder:
             "frames": len(self.rows),
             "lost": [],
             "applied": False,
+            "actions": {},
             "notes": self.notes,
         }
         if self.footage is not None and self.footage.exists():
             clip = bpy.data.movieclips.load(str(self.footage))
             clip.frame_start = self.rows[0][2]
             info["clip"] = clip
-        if self.target is not None and _alive(self.target):
-            out = apply_take(self.scene, self.target, self.blob_mesh, self.take_name)
-            info.update(
-                lost=out["lost"], applied=True, action=out["action"], attention=out["attention"]
-            )
+        lost, attention = set(), []
+        for doll in self.dolls:
+            out = doll.apply(self.scene, self.take_name)
+            if out is None:
+                continue
+            info["actions"][doll.name] = out["action"]
+            info.setdefault("action", out["action"])
+            lost.update(out["lost"])
+            attention += out["attention"] or []
+            info["applied"] = True
+        if info["applied"]:
+            info.update(lost=sorted(lost), attention=attention)
         return info
-
-
-def _alive(obj) -> bool:
-    """False once a Blender object's data was deleted under us."""
-    try:
-        obj.name  # noqa: B018 - raises once the object is gone
-    except ReferenceError:
-        return False
-    return True
 
 
 def recording_now() -> bool:

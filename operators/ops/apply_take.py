@@ -42,7 +42,8 @@ class VOODOO_OT_apply_take(bpy.types.Operator):
         else:
             targets = [s.target]
         for obj in targets:
-            out = apply_take(context.scene, obj, s.blob, take, new_layer=self.new_layer)
+            doll = s.dolls[s.shown_doll].name if len(s.dolls) > 1 else None
+            out = apply_take(context.scene, obj, s.blob, take, new_layer=self.new_layer, doll=doll)
             how = "updated in place" if out["in_place"] else "applied"
             self.report(
                 {"INFO"}, f"{obj.name}: take {take!r} {how} as action {out['action'].name!r}"

@@ -37,7 +37,10 @@ def status_line(rec) -> str:
 
 def report_finish(op, info) -> None:
     msg = f"Take {info['take']!r}: {info['frames']} frames"
-    if info.get("applied"):
+    actions = info.get("actions") or {}
+    if len(actions) > 1:
+        msg += ", applied as actions " + ", ".join(repr(a.name) for a in actions.values())
+    elif info.get("applied"):
         msg += f", applied as action {info['action'].name!r}"
     else:
         msg += " (stored with the blob; set a target and Apply Take)"

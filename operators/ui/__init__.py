@@ -1,5 +1,5 @@
 """The panels: the Clip Editor's (source to take) and the 3D Viewport's (target and modes)."""
 
-from . import clip_panels, mode_list, target_panel
+from . import clip_panels, doll_list, mode_list, target_panel
 
-classes = mode_list.classes + clip_panels.classes + target_panel.classes
+classes = mode_list.classes + doll_list.classes + clip_panels.classes + target_panel.classes

@@ -4,8 +4,12 @@ The panels work on the doll selected in the list; choosing another doll keeps th
 one's settings and shows the other's. Adding, renaming and removing are undoable.
 """
 
+import json
+from pathlib import Path
+
 import bpy
 import numpy as np
+import pytest
 
 
 def _outline(s):
@@ -104,3 +108,80 @@ def test_dolls_survive_save_and_reload(prepared, clip_file, make, tmp_path):
     assert s.blob.name == "Doll"
     s.active_doll = 1
     assert s.blob.name == "Tail" and len(s.modes) > 0
+
+
+MULTI = Path(__file__).resolve().parents[2] / "samples" / "multi"
+
+
+def _two_dolls_scene(make):
+    """The two_dolls render, each sheet outlined and built as its own doll, two targets."""
+    scene = bpy.context.scene
+    clip = bpy.data.movieclips.load(str(MULTI / "two_dolls.mp4"))
+    scene.active_clip = clip
+    scene.frame_set(clip.frame_start)
+    assert bpy.ops.voodoo.capture_frame() == {"FINISHED"}
+    s = scene.voodoo
+    targets = {}
+    for i, name in enumerate(("left", "right")):
+        if i:
+            assert bpy.ops.voodoo.add_doll(name=name) == {"FINISHED"}
+        points = json.loads((MULTI / f"two_dolls.{name}.json").read_text())["points"]
+        make.add_mask(points, tuple(clip.size), name=f"{name} outline")
+        assert bpy.ops.voodoo.contour_from_mask(mask=f"{name} outline") == {"FINISHED"}
+        assert bpy.ops.voodoo.build_blob(name=name) == {"FINISHED"}
+        targets[name] = s.target = make.flat_target(name=f"{name} puppet", keyed=False)
+    return s, targets
+
+
+def test_one_take_tracks_both_dolls_and_drives_two_characters(ctx, make, sub):
+    s, targets = _two_dolls_scene(make)
+    assert [d.name for d in s.dolls] == ["left", "right"]
+    s.take_name = "Duet"
+    assert bpy.ops.voodoo.track_clip() == {"FINISHED"}
+    store = sub("operators.storage")
+    for name, target in targets.items():
+        blob = bpy.data.meshes[name]
+        stored = store.stored_take(blob, "Duet")
+        assert len(stored.take) == 144 and not stored.take.lost.any()
+        action = target.animation_data.action
+        assert action.name == f"Duet {name}"  # its own action, named after take and doll
+        assert target.data.shape_keys.animation_data.action is action
+    # the left sheet is partly covered by the right one mid-take: covered, not lost
+    left = store.stored_take(bpy.data.meshes["left"], "Duet").take
+    assert left.visible[85].mean() < 0.8 and left.visible[-1].all()
+    # re-applying the doll shown rewrites its own action in place
+    s.active_doll = 0
+    assert bpy.ops.voodoo.apply_take(take="Duet") == {"FINISHED"}
+    assert targets["left"].animation_data.action.name == "Duet left"
+    assert len([a for a in bpy.data.actions if a.name.startswith("Duet")]) == 2
+
+
+def test_a_take_of_two_dolls_is_journalled_and_recovered_for_both(ctx, make, sub):
+    s, targets = _two_dolls_scene(make)
+    s.take_name = "Cut"
+    recorder = sub("operators.recorder")
+    rec = recorder.Recorder(bpy.context, max_frames=30, live=True)
+    for _ in range(6):
+        assert rec.step()
+    rec.close()  # as if Blender went away: nothing stored, the journals stay on disk
+    found = recorder.interrupted_takes()
+    assert sorted(m.name for _, m in found) == ["left", "right"]
+    assert bpy.ops.voodoo.recover_takes() == {"FINISHED"}
+    store = sub("operators.storage")
+    for name in ("left", "right"):
+        assert len(store.stored_take(bpy.data.meshes[name], "Cut").take) == 6
+    assert recorder.interrupted_takes() == []
+
+
+def test_two_dolls_that_clash_are_refused_before_anything_changes(ctx, make, sub):
+    s, targets = _two_dolls_scene(make)
+    s.target = targets["left"]  # the right doll (shown) takes the left one's target
+    with pytest.raises(RuntimeError, match="same target 'left puppet'"):
+        bpy.ops.voodoo.track_clip()
+    s.target = targets["right"]
+    s.dolls[0].name = "right"
+    with pytest.raises(RuntimeError, match="Two dolls are named 'right'"):
+        bpy.ops.voodoo.track_clip()
+    s.dolls[0].name = "left"
+    assert not any(t.animation_data and t.animation_data.action for t in targets.values())
+    assert sub("operators.recorder").interrupted_takes() == []

@@ -82,3 +82,21 @@ def test_mode_list_rows(prepared, sub):
     )
     assert ("prop", "enabled") in log and ("prop", "gain") in log
     assert ("label", s.modes[0].name) in log
+
+
+def test_the_dolls_panel_lists_dolls_with_add_and_remove(prepared, sub):
+    s = prepared.scene.voodoo
+    panels = sub("operators.ui.clip_panels")
+    log = []
+    panels.VOODOO_PT_dolls.draw(SimpleNamespace(layout=RecordingLayout(log)), prepared)
+    assert ("operator", "voodoo.add_doll") in log and ("list", "dolls") not in log
+    assert bpy.ops.voodoo.add_doll(name="Tail") == {"FINISHED"}
+    log = []
+    panels.VOODOO_PT_dolls.draw(SimpleNamespace(layout=RecordingLayout(log)), prepared)
+    assert ("list", "dolls") in log and ("operator", "voodoo.remove_doll") in log
+    rows = []
+    for i, doll in enumerate(s.dolls):
+        sub("operators.ui.doll_list").VOODOO_UL_dolls.draw_item(
+            None, prepared, RecordingLayout(rows), s, doll, 0, s, "active_doll", i
+        )
+    assert ("prop", "name") in rows and ("label", "Doll") in rows and ("label", "no blob") in rows
