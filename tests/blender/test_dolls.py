@@ -185,3 +185,36 @@ def test_two_dolls_that_clash_are_refused_before_anything_changes(ctx, make, sub
     s.dolls[0].name = "left"
     assert not any(t.animation_data and t.animation_data.action for t in targets.values())
     assert sub("operators.recorder").interrupted_takes() == []
+
+
+def test_a_take_of_two_dolls_resumes_for_both(ctx, make, sub):
+    s, targets = _two_dolls_scene(make)
+    s.take_name = "Long"
+    recorder = sub("operators.recorder")
+    rec = recorder.Recorder(bpy.context, max_frames=40, live=False)
+    while rec.step():
+        pass
+    assert rec.finish()["take"] == "Long"
+    # no doll can be removed while a take records
+    rec2 = recorder.Recorder(bpy.context, max_frames=5, live=False, resume="Long")
+    with pytest.raises(RuntimeError, match="being recorded"):
+        bpy.ops.voodoo.remove_doll()
+    rec2.close()
+    for path, _ in recorder.interrupted_takes():  # that recording is dropped
+        path.unlink()
+    assert bpy.ops.voodoo.track_clip(resume=True) == {"FINISHED"}
+    store = sub("operators.storage")
+    for name in ("left", "right"):
+        take = store.stored_take(bpy.data.meshes[name], "Long").take
+        assert len(take) == 144 and take.frame_indices.tolist() == list(range(144))
+
+
+def test_outlines_that_overlap_are_refused_before_recording(ctx, make):
+    s, targets = _two_dolls_scene(make)
+    left = [tuple(p.co) for p in s.dolls[0].contour]
+    s.contour.clear()
+    for x, y in left:  # the right doll outlined over the left one
+        s.contour.add().co = (x + 20, y)
+    assert bpy.ops.voodoo.build_blob(name="right") == {"FINISHED"}
+    with pytest.raises(RuntimeError, match="'left' and 'right' overlap"):
+        bpy.ops.voodoo.track_clip()
