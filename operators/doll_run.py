@@ -9,12 +9,21 @@ under the take's name, and its action and OSC addresses are named after the doll
 import bpy
 import numpy as np
 
+from ..voodoo_addon.blob.outline import check_apart
 from ..voodoo_addon.errors import VoodooError
 from ..voodoo_addon.takes.journal import SUFFIX, JournalWriter
 from ..voodoo_addon.takes.rig import Rig, fit_mapping, unit
 from ..voodoo_addon.takes.take import Take
+from ..voodoo_addon.tracking.troupe import doll_names
 from .apply import apply_take, check_target, layout_for, rest_vertices, shape_for_mode
-from .storage import blob_id, recovery_dir, store_take, stored_blob, stored_take
+from .storage import (
+    blob_id,
+    recovery_dir,
+    store_take,
+    stored_blob,
+    stored_take,
+    unique_take_name,
+)
 
 
 def alive(obj) -> bool:
@@ -200,3 +209,43 @@ class DollRun:
             scene, self.target, self.blob_mesh, take_name, settings=self.settings,
             doll=self.action_doll,
         )  # fmt: skip
+
+
+def check_dolls(dolls) -> None:
+    """Several dolls: distinct names, distinct blobs and targets, outlines apart."""
+    if len(dolls) < 2:
+        return
+    doll_names([d.name for d in dolls])
+    for kind in ("blob_mesh", "target"):
+        seen = {}
+        for d in dolls:
+            thing = getattr(d, kind)
+            if thing is None:
+                continue
+            if thing.name in seen:
+                what = "blob" if kind == "blob_mesh" else "target"
+                raise VoodooError(
+                    f"Dolls {seen[thing.name]!r} and {d.name!r} have the same {what} "
+                    f"{thing.name!r}: give each doll its own."
+                )
+            seen[thing.name] = d.name
+    check_apart({d.name: d.blob.contour for d in dolls})
+
+
+def unique_name(dolls, base: str) -> str:
+    """A take name no doll has a take or an action of yet (``base``, ``base.002``, ...)."""
+    name = base
+    for _ in range(1000):
+        unique = [unique_take_name(d.blob_mesh, name) for d in dolls]
+        taken = {f"{name} {d.name}" for d in dolls if d.several} & set(bpy.data.actions.keys())
+        if all(u == name for u in unique) and not taken:
+            return name
+        name = next((u for u in unique if u != name), None) or _bump(name)
+    raise VoodooError(f"No free take name after {base!r}.")
+
+
+def _bump(name: str) -> str:
+    stem, _, number = name.rpartition(".")
+    if stem and number.isdigit():
+        return f"{stem}.{int(number) + 1:03d}"
+    return f"{name}.002"

@@ -12,7 +12,6 @@ from contextlib import ExitStack
 import bpy
 import numpy as np
 
-from ..voodoo_addon.blob.outline import check_apart
 from ..voodoo_addon.errors import VoodooError
 from ..voodoo_addon.media.images import to_uint8_bgr
 from ..voodoo_addon.media.prefetch import PENDING, Prefetcher
@@ -20,10 +19,10 @@ from ..voodoo_addon.media.sources import open_source
 from ..voodoo_addon.stream import OscSender
 from ..voodoo_addon.takes.journal import read_journal
 from ..voodoo_addon.tracking import Tracker
-from ..voodoo_addon.tracking.troupe import Troupe, doll_names
+from ..voodoo_addon.tracking.troupe import Troupe
 from . import drawing
 from .clips import active_clip, open_clip, scene_frame
-from .doll_run import DollRun, alive
+from .doll_run import DollRun, alive, check_dolls, unique_name
 from .dolls import doll_settings
 from .gpu_warp import make_backend
 from .storage import (
@@ -48,46 +47,6 @@ def _frozen(s) -> list:
         ("scale", s.freeze_scale),
     )
     return [name for name, on in pairs if on]
-
-
-def _check_dolls(dolls) -> None:
-    """Several dolls: distinct names, distinct blobs and targets, outlines apart."""
-    if len(dolls) < 2:
-        return
-    doll_names([d.name for d in dolls])
-    for kind in ("blob_mesh", "target"):
-        seen = {}
-        for d in dolls:
-            thing = getattr(d, kind)
-            if thing is None:
-                continue
-            if thing.name in seen:
-                what = "blob" if kind == "blob_mesh" else "target"
-                raise VoodooError(
-                    f"Dolls {seen[thing.name]!r} and {d.name!r} have the same {what} "
-                    f"{thing.name!r}: give each doll its own."
-                )
-            seen[thing.name] = d.name
-    check_apart({d.name: d.blob.contour for d in dolls})
-
-
-def _unique_take_name(dolls, base: str) -> str:
-    """A take name no doll has a take or an action of yet (``base``, ``base.002``, ...)."""
-    name = base
-    for _ in range(1000):
-        unique = [unique_take_name(d.blob_mesh, name) for d in dolls]
-        taken = {f"{name} {d.name}" for d in dolls if d.several} & set(bpy.data.actions.keys())
-        if all(u == name for u in unique) and not taken:
-            return name
-        name = next((u for u in unique if u != name), None) or _bump(name)
-    raise VoodooError(f"No free take name after {base!r}.")
-
-
-def _bump(name: str) -> str:
-    stem, _, number = name.rpartition(".")
-    if stem and number.isdigit():
-        return f"{stem}.{int(number) + 1:03d}"
-    return f"{name}.002"
 
 
 class Recorder:
@@ -120,7 +79,7 @@ class Recorder:
         self.live = live
         listed = doll_settings(s)
         self.dolls = [DollRun(name, d, len(listed) > 1) for name, d in listed]
-        _check_dolls(self.dolls)
+        check_dolls(self.dolls)
         self.notes: list[str] = []
         self.rows = []  # (source index, time, scene frame, {doll name: TrackResult})
         if resume:
@@ -148,7 +107,7 @@ class Recorder:
                 {d.name: d.blob for d in self.dolls},
                 trackers={d.name: d.tracker for d in self.dolls},
             )
-            self.take_name = resume or _unique_take_name(self.dolls, s.take_name or "Take")
+            self.take_name = resume or unique_name(self.dolls, s.take_name or "Take")
             for doll in self.dolls:
                 fps = self.source.fps
                 journal = doll.open_journal(self.take_name, fps, self.rest_frame, resume)
