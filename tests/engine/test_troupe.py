@@ -47,13 +47,14 @@ def _left_x(i):
     return LEFT0 + 3.0 * min(i, 40, max(0, 80 - i))
 
 
-def _frames():
+def _frames(left_x=None, frames=None):
+    left_x = left_x or _left_x
     a, b = _card(1), _card(2)
     out = []
-    for i in range(FRAMES):
+    for i in range(frames or FRAMES):
         f = np.full((SIZE[1], SIZE[0], 3), 128, np.uint8)
         f[TOP : TOP + CARD, RIGHT0 : RIGHT0 + CARD] = b
-        m = np.float32([[1, 0, _left_x(i)], [0, 1, TOP]])
+        m = np.float32([[1, 0, left_x(i)], [0, 1, TOP]])
         warped = cv2.warpAffine(a, m, SIZE, flags=cv2.INTER_LINEAR)
         inside = cv2.warpAffine(np.ones((CARD, CARD), np.uint8), m, SIZE) > 0
         f[inside] = warped[inside]
@@ -291,3 +292,25 @@ def test_a_cover_frees_what_lies_outside_it_at_every_level():
     # at level 1 (scale 0.5), level pixel 7 is frame pixel 14
     assert cover.free(np.array([7.0, 2.0]), np.array([16.5, 16.5]), 0.5).tolist() == [False, True]
     assert cover.free(np.array([100.0]), np.array([100.0]), 1) is None  # far away: nothing
+
+
+def test_a_doll_that_jumps_onto_another_does_not_drag_it():
+    """First contact at 30 px a frame: the order is only known once they overlap."""
+
+    def jump(i):
+        return LEFT0 + min(30.0 * i, 120.0, max(0.0, 30.0 * (24 - i)))
+
+    frames = _frames(jump, 26)
+    first = frames[0].astype(np.float32) / 255
+    blobs = {
+        "left": build_blob(first, _outline(LEFT0)),
+        "right": build_blob(first, _outline(RIGHT0)),
+    }
+    takes = track_dolls(Troupe(blobs), ArraySource(frames, fps=30.0))
+    right, tri = takes["right"], blobs["right"].triangles
+    assert not right.lost.any() and right.visible[5].mean() < 0.7
+    for i in range(26):
+        seen = np.unique(tri[right.visible[i]])
+        err = np.linalg.norm(right.vertices[i, seen] - blobs["right"].vertices[seen], axis=1)
+        assert err.mean() < 0.6, (i, err.mean())
+    assert np.abs(right.vertices[-1] - blobs["right"].vertices).max() < 0.5
