@@ -218,3 +218,19 @@ def test_outlines_that_overlap_are_refused_before_recording(ctx, make):
     assert bpy.ops.voodoo.build_blob(name="right") == {"FINISHED"}
     with pytest.raises(RuntimeError, match="'left' and 'right' overlap"):
         bpy.ops.voodoo.track_clip()
+
+
+def test_recording_two_dolls_streams_each_under_its_name(ctx, make, sub, osc_receiver):
+    s, targets = _two_dolls_scene(make)
+    rx = osc_receiver()
+    s.osc_send, s.osc_target = True, f"127.0.0.1:{rx.port}"
+    assert bpy.ops.voodoo.track_clip() == {"FINISHED"}
+    frames = {}
+    for dgram in rx.close():
+        msgs = dict(rx.messages(dgram))
+        (address,) = [a for a in msgs if a.endswith("/frame")]
+        frames.setdefault(address.split("/")[2], []).append(msgs[address][0])
+    store = sub("operators.storage")
+    for name in ("left", "right"):
+        take = store.stored_take(bpy.data.meshes[name], s.last_take).take
+        assert frames[name] == take.frame_indices.tolist()
