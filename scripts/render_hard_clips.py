@@ -70,6 +70,21 @@ doll hides the point:
     camera) slides in front of the left one, covering about half of it for about a second,
     and they part and end apart, almost flat.
 
+The clips of folds (``hardclips/folds.py``), whose sheets fold in half or over themselves or
+turn past edge-on and back, are likewise made only when named, into ``samples/folds``::
+
+    .venv/bin/python scripts/render_hard_clips.py --out samples/folds --only fold_squeeze \
+        tail_turn sheet_foldover
+
+``fold_squeeze``
+    Two hands squeeze a printed label from the left and right: its right half folds back behind
+    its left half in about half a second, holds, unfolds, and the hands leave.
+``tail_turn``
+    A furry, low-contrast stuffed-toy patch is turned in depth by one end: its body turns 40
+    degrees and its tail end on to 95 degrees, past edge-on, and back.
+``sheet_foldover``
+    The top 35 % of a printed sheet folds 180 degrees over the rest, towards the camera, and back.
+
 Everything is seeded: the same command makes the same scenes, truth and outlines (Cycles runs
 seeded on one thread, so the renders should repeat too). All seven take about 50 minutes.
 
@@ -82,6 +97,7 @@ before bpy starts.
 import argparse
 from pathlib import Path
 
+from hardclips.folds import FOLDS
 from hardclips.heldout import HELDOUT  # scripts/ is on sys.path; hardclips pins one core
 from hardclips.make import make_clip, write_readme
 from hardclips.multi import MULTI
@@ -94,8 +110,8 @@ def parse_args(argv=None):
     parser.add_argument(
         "--only",
         nargs="+",
-        choices=[c.name for c in CLIPS + HELDOUT + MULTI],
-        help="make only these clips (the held-out and several-doll ones only so)",
+        choices=[c.name for c in CLIPS + HELDOUT + MULTI + FOLDS],
+        help="make only these clips (the held-out, several-doll and fold ones only so)",
     )
     parser.add_argument(
         "--draft", action="store_true", help="render with Workbench, to check the geometry"
@@ -112,16 +128,19 @@ def main(argv=None):
     if args.only is None:
         clips = CLIPS  # never the held-out clips
     else:
-        clips = [c for c in CLIPS + HELDOUT + MULTI if c.name in args.only]
+        clips = [c for c in CLIPS + HELDOUT + MULTI + FOLDS if c.name in args.only]
         if any(c in HELDOUT for c in clips) and any(c in CLIPS for c in clips):
             raise SystemExit("make the held-out clips apart from the others, in another folder")
         if any(c in MULTI for c in clips) and any(c not in MULTI for c in clips):
             raise SystemExit("make the clips of several dolls apart from the others")
+        if any(c in FOLDS for c in clips) and any(c not in FOLDS for c in clips):
+            raise SystemExit("make the clips of folds apart from the others")
     total = 0.0
     for clip in clips:
         total += make_clip(clip, args.out, args.draft, args.truth_only)
     if not (args.draft or args.truth_only):
-        group = HELDOUT if clips[0] in HELDOUT else MULTI if clips[0] in MULTI else CLIPS
+        groups = (HELDOUT, MULTI, FOLDS)
+        group = next((g for g in groups if clips[0] in g), CLIPS)
         write_readme(args.out, group)
     print(f"rendering took {total:.0f} s in all")
 

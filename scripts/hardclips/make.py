@@ -13,6 +13,7 @@ import bpy
 # isort: split
 import numpy as np
 
+from hardclips.folds import FOLDS, README_FOLDS, visibility_rows
 from hardclips.heldout import HELDOUT
 from hardclips.multi import MULTI
 from hardclips.scenarios import CLIPS
@@ -24,8 +25,11 @@ from hardclips.video import NOISE_SIGMA, develop, encode, render_frames
 def clip_number(clip):
     """The clip's number, which seeds its scene.
 
-    Its place in ``CLIPS``; held-out clips: 100 + in ``HELDOUT``; several dolls: 200 + in ``MULTI``.
+    Its place in ``CLIPS``; held-out clips: 100 + in ``HELDOUT``; several dolls: 200 + in ``MULTI``;
+    folds: 300 + in ``FOLDS``.
     """
+    if clip in FOLDS:
+        return 300 + FOLDS.index(clip)
     if clip in MULTI:
         return 200 + MULTI.index(clip)
     return CLIPS.index(clip) if clip in CLIPS else 100 + HELDOUT.index(clip)
@@ -152,7 +156,7 @@ the perspective camera, apart from the others and at rest for three frames.
 def write_readme(out, clips=CLIPS):
     """``out``/README.md: how the clips were made, what they hold, one row per clip.
 
-    ``clips`` is ``CLIPS``, ``HELDOUT`` or ``MULTI``.
+    ``clips`` is ``CLIPS``, ``HELDOUT``, ``MULTI`` or ``FOLDS``.
     """
     making = MAKING if clips is CLIPS else MAKING_HELDOUT
     rows = []
@@ -163,6 +167,19 @@ def write_readme(out, clips=CLIPS):
         if clip.post is not None:
             renderer += f"; {clip.post_note} in post"
         rows.append(f"| `{clip.name}` | {clip.frames} | {clip.fps} | {clip.what} | {renderer} |")
+    if clips is FOLDS:
+        (out / "README.md").write_text(
+            README_FOLDS.format(
+                blender=bpy.app.version_string,
+                names=" ".join(c.name for c in clips),
+                width=WIDTH,
+                height=HEIGHT,
+                noise=100 * NOISE_SIGMA,
+                rows="\n".join(rows),
+                visibility=visibility_rows(out, clips),
+            )
+        )
+        return
     if clips is MULTI:
         (out / "README.md").write_text(
             README_MULTI.format(
