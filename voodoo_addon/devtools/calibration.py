@@ -1,11 +1,12 @@
 """Is the confidence calibrated? Confidence against true node error on the rendered clips.
 
-For each rendered clip (ground truth from Blender), the tracker's own frames give the
-confidence of meshes that are (nearly) right; the same frames with the tracked pose moved
-off by a known amount (a translation of 1-24 px in a random direction, plus a turn) give the
-confidence of meshes that are wrong by that much. The table of confidence per error bin is
-what the thresholds are chosen from: a frame is *lost* below ``TrackerOptions.lost_below``,
-and Blender marks stretches below ``ATTENTION_BELOW`` for an animator to check.
+For each rendered clip (ground truth from Blender: the hard, held-out and fold clips), the
+tracker's own frames give the confidence of meshes that are (nearly) right; the same frames
+with the tracked pose moved off by a known amount (a translation of 1-24 px in a random
+direction, plus a turn) give the confidence of meshes that are wrong by that much. The table
+of confidence per error bin is what the thresholds are chosen from: a frame is *lost* below
+``TrackerOptions.lost_below``, and Blender marks stretches below ``ATTENTION_BELOW`` for an
+animator to check.
 """
 
 from __future__ import annotations
@@ -33,7 +34,7 @@ def judge(tracker: Tracker, frame: np.ndarray, a: np.ndarray) -> float:
     step = fitter.levels[0]
     org, box = step.bind(images[step.index], origin)
     ev = step.evaluate(a, org, box)
-    return 0.0 if ev is None else fitter.quality(ev, a).value
+    return 0.0 if ev is None else fitter.quality(ev, a).in_view
 
 
 def samples(clip, every: int = 6, seed: int = 0):
@@ -68,7 +69,11 @@ def samples(clip, every: int = 6, seed: int = 0):
 def calibration_table(clips=None) -> list[dict]:
     """Confidence per true-error bin over the rendered clips."""
     pairs = []
-    for clip in clips if clips is not None else clip_suite():
+    if clips is None:
+        from .folds import fold_clips
+
+        clips = clip_suite() + fold_clips()
+    for clip in clips:
         if clip.truth is not None:
             pairs += samples(clip)
     conf, err = np.array(pairs).T

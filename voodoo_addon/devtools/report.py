@@ -15,6 +15,11 @@ Parts (``--only`` picks some):
 ``dolls``
     Several dolls in one take (``samples/multi``): each doll's accuracy beside KLT and DIS,
     and the time per frame of the dolls together against each alone (:mod:`.dolls`).
+``folds``
+    Renders of folds and turns (``samples/folds``): a doll partly hidden by itself, judged on
+    the part in view beside KLT and DIS -- node error of the seen nodes, folded frames,
+    frames lost while a third is in view, frames to sub-pixel after the hidden part is back
+    (:mod:`.folds`).
 ``osc``
     Latency of the OSC stream on loopback, from a frame being there to its bundle received
     (:mod:`.osclatency`).
@@ -39,7 +44,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-PARTS = ("speed", "live", "dolls", "osc", "clips", "calibration", "hd")
+PARTS = ("speed", "live", "dolls", "folds", "osc", "clips", "calibration", "hd")
 THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMEXPR_NUM_THREADS")
 
 
@@ -58,6 +63,10 @@ def measure(parts, quick: bool = False) -> dict:
         from .dolls import run_dolls
 
         report["dolls"] = run_dolls()
+    if "folds" in parts:
+        from .folds import run_folds
+
+        report["folds"] = run_folds()
     if "osc" in parts:
         from .osclatency import run_osc_latency
 
@@ -135,6 +144,13 @@ def sections(report: dict) -> dict:
         out["dolls"] = (
             f"{head} One thread.\n\n```sh\npython -m voodoo_addon bench --only dolls\n```\n\n"
             + format_dolls(report["dolls"])
+        )
+    if "folds" in report:
+        from .folds import format_folds
+
+        out["folds"] = (
+            f"{head} One thread.\n\n```sh\npython -m voodoo_addon bench --only folds\n```\n\n"
+            + format_folds(report["folds"])
         )
     if "osc" in report:
         from .osclatency import format_osc

@@ -1,0 +1,262 @@
+"""Folds and turns: a doll partly hidden by itself, judged on the part still in view.
+
+Part ``folds`` of the benchmark. Every render under ``samples/folds`` (a sheet squeezed until
+it folds in half, turned edge-on by one end, folded over onto itself; see
+``samples/folds/README.md``) is tracked by ours, KLT and DIS on the same decoded frames and
+judged on what the issue asks of a fold:
+
+- **folded frames**: frames where any triangle of the mesh is turned over;
+- **lost while a third is in view**: lost frames while at least :data:`THIRD` of the true
+  lattice is seen;
+- **node error** of the nodes the renderer sees (mean over frames, and the 90th percentile);
+- **recovery**: after the frame where the sheet was least seen, the first frame where the
+  hidden part is back -- *in view*, :data:`RETURNED` of the lattice seen again (it may still
+  be nearly edge-on), and *open*, the seen lattice covering :data:`RETURNED` of its frame-0
+  area on the picture again -- and how many frames after each the error of the seen nodes
+  first falls below :data:`SUBPIXEL`;
+- **mode jump** (ours): the largest change of the mode amplitudes from one tracked frame to
+  the next (pixels RMS over the doll), against the median change and against the largest
+  change of the renderer's own mesh projected onto the modes (:func:`true_modes`): what a
+  character driven by the modes would show as a jump the doll did not make.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from ..blob.build import build_blob
+from ..media.images import to_float_rgb
+from ..tracking import Tracker
+from ..tracking.params import ParamLayout, similarity_from_matrix
+from ..tracking.proposals import PointFit
+from ..tracking.quality import score_track
+from .baselines import track_dis, track_klt
+from .clips import SAMPLES, Clip, LatticeTruth, read_clip, truth_errors
+
+FOLDS = SAMPLES / "folds"
+#: The doll counts as in view while at least this share of its true lattice is seen.
+THIRD = 1.0 / 3.0
+#: The hidden part is back once this share of the lattice is seen again.
+RETURNED = 0.9
+#: Sub-pixel: the mean error of the seen nodes below this many pixels.
+SUBPIXEL = 1.0
+
+
+def fold_clips(root: Path = FOLDS) -> list[Clip]:
+    """The renders of folds under ``root`` (video, outline, truth)."""
+    clips = []
+    for video in sorted(root.glob("*.mp4")):
+        outline = video.with_suffix(".json")
+        truth = video.with_name(f"{video.stem}_truth.npz")
+        if outline.exists() and truth.exists():
+            clips.append(Clip(video.stem, video, outline, truth))
+    return clips
+
+
+def open_area(truth: LatticeTruth) -> np.ndarray:
+    """Per frame, the seen part's picture area over the lattice's area on frame 0 (T,).
+
+    The seen part: the lattice cells whose four corners are seen.
+    """
+    lat, vis = truth.lattice, truth.visible >= 0.5
+    a, b = lat[:, :-1, :-1], lat[:, :-1, 1:]
+    c, d = lat[:, 1:, 1:], lat[:, 1:, :-1]
+
+    def cross(p, q):
+        return p[..., 0] * q[..., 1] - q[..., 0] * p[..., 1]
+
+    area = 0.5 * np.abs(cross(a, b) + cross(b, c) + cross(c, d) + cross(d, a))
+    cells = vis[:, :-1, :-1] & vis[:, :-1, 1:] & vis[:, 1:, 1:] & vis[:, 1:, :-1]
+    return (area * cells).sum(axis=(1, 2)) / area[0].sum()
+
+
+def recovery(err: np.ndarray, seen: np.ndarray, back_at: np.ndarray | None = None):
+    """(return frame, frames from it to sub-pixel) of one track; None where there is none.
+
+    The return is the first frame after the least-seen one where ``back_at`` (default
+    ``seen``) is at least :data:`RETURNED` again; the second figure is None when the error
+    never falls below :data:`SUBPIXEL` after it.
+    """
+    back_at = seen if back_at is None else back_at
+    low = int(np.argmin(seen))
+    back = np.flatnonzero(back_at[low:] >= RETURNED)
+    if seen[low] >= RETURNED or not len(back):
+        return None, None
+    start = low + int(back[0])
+    good = np.flatnonzero(err[start:] < SUBPIXEL)
+    return start, (int(good[0]) if len(good) else None)
+
+
+def judge(frames, blob, truth: LatticeTruth, verts, lost) -> dict:
+    """One track of one clip, judged (see the module's list)."""
+    score = score_track(frames, verts, blob.triangles, lost)
+    err, seen = truth_errors(truth, blob.vertices, verts)
+    lost = np.asarray(lost[: len(seen)], bool)
+    back, to_subpixel = recovery(err, seen)
+    opened, open_to_subpixel = recovery(err, seen, open_area(truth)[: len(seen)])
+    return {
+        **score.summary(),
+        "error_px": round(float(np.nanmean(err)), 3),
+        "error_p90_px": round(float(np.nanpercentile(err, 90)), 3),
+        "lost_in_third": int(np.count_nonzero(lost & (seen >= THIRD))),
+        "least_seen": round(float(seen.min()), 2),
+        "returned_at": back,
+        "recovery_frames": to_subpixel,
+        "opened_at": opened,
+        "open_recovery_frames": open_to_subpixel,
+        "frame_error": np.round(err, 3).tolist(),
+        "seen": np.round(seen, 3).tolist(),
+    }
+
+
+def track_with_modes(frames, blob, options=None):
+    """Our tracker over the frames, as :func:`.clips.track_ours` runs it.
+
+    Returns what that returns, and the mode amplitudes (T, k) of every frame.
+    """
+    tracker = Tracker(blob, options=options)
+    modes = tracker.layout.modes
+    verts, lost, conf, secs, amps = [], [], [], [], []
+    for i, frame in enumerate(frames):
+        t0 = time.perf_counter()
+        res = tracker.track(frame)
+        if i:
+            secs.append(time.perf_counter() - t0)
+        verts.append(res.nodes)
+        lost.append(res.lost)
+        conf.append(res.confidence)
+        amps.append(res.params[modes])
+    return np.array(verts), np.array(lost), np.array(secs), np.array(conf), np.array(amps)
+
+
+def mode_jumps(amps: np.ndarray, lost: np.ndarray) -> tuple[float, float]:
+    """(largest, median) RMS change of the mode amplitudes between tracked frames."""
+    keep = ~np.asarray(lost, bool)
+    steps = np.sqrt((np.diff(amps[keep], axis=0) ** 2).mean(axis=1))
+    if not len(steps):
+        return 0.0, 0.0
+    return float(steps.max()), float(np.median(steps))
+
+
+def true_modes(blob, truth: LatticeTruth, layout) -> np.ndarray:
+    """The mode amplitudes (T, k) of the renderer's mesh.
+
+    Every node's true position (seen or not), the similarity taken out (least squares),
+    projected onto the modes.
+    """
+    fit = PointFit(blob, layout, blob.vertices)
+    every = np.arange(blob.n_nodes)
+    rest = blob.vertices.astype(np.float32)
+    out = []
+    for i in range(len(truth)):
+        nodes = truth(i, blob.vertices)[0]
+        mat, _ = cv2.estimateAffinePartial2D(rest, nodes.astype(np.float32), method=cv2.LMEDS)
+        sim = similarity_from_matrix(mat, blob.centre)
+        a = fit.fit(every, nodes, np.asarray(sim, np.float64)[:4], layout.identity(), 1e-4)
+        out.append(a[layout.modes])
+    return np.array(out)
+
+
+def run_fold_clip(clip: Clip, trackers=("ours", "klt", "dis"), options=None) -> list[dict]:
+    """Every tracker on one clip; a row per tracker (with per-frame series)."""
+    frames, outline, _ = read_clip(clip)
+    blob = build_blob(to_float_rgb(frames[0]), outline)
+    truth = LatticeTruth(clip.truth)
+    rows = []
+    for name in trackers:
+        extra = {}
+        if name == "ours":
+            verts, lost, secs, conf, amps = track_with_modes(frames, blob, options)
+            extra["confidence"] = np.round(conf, 3).tolist()
+            jump, typical = mode_jumps(amps, lost)
+            extra["mode_jump_px"] = round(jump, 2)
+            extra["mode_step_median_px"] = round(typical, 3)
+            layout = ParamLayout(tuple(str(n) for n in blob.labels))
+            truth_jump = mode_jumps(true_modes(blob, truth, layout), np.zeros(len(truth), bool))
+            extra["true_mode_jump_px"] = round(truth_jump[0], 2)
+        elif name == "klt":
+            verts, lost, secs = track_klt(frames, blob.vertices)
+        else:
+            verts, lost, secs = track_dis(frames, blob.vertices)
+        row = {"clip": clip.name, "tracker": name, "frames": len(frames)}
+        row.update(judge(frames, blob, truth, verts, lost), **extra)
+        row["median_ms"] = round(1000.0 * float(np.median(secs)), 2)
+        rows.append(row)
+    return rows
+
+
+def run_folds(root: Path = FOLDS) -> list[dict]:
+    """Every fold clip; rows without the per-frame series."""
+    rows = []
+    for clip in fold_clips(root):
+        got = run_fold_clip(clip)
+        rows += [{k: v for k, v in r.items() if not isinstance(v, list)} for r in got]
+    return rows
+
+
+def format_folds(rows: list[dict]) -> str:
+    """The Markdown table: a row per clip and tracker."""
+    lines = [
+        "| clip | tracker | error px (p90), seen nodes | folded frames | lost while 1/3 seen "
+        "| least seen | back in view at | frames to < 1 px | back open at | frames to < 1 px "
+        "| largest mode jump px (median step; the renderer's largest) | consistency mean | p10 "
+        "| median ms |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        back, rec = _recovery(r["returned_at"], r["recovery_frames"])
+        opened, open_rec = _recovery(r["opened_at"], r["open_recovery_frames"])
+        jump = "—"
+        if "mode_jump_px" in r:
+            jump = (
+                f"{r['mode_jump_px']:.2f} ({r['mode_step_median_px']:.2f}; "
+                f"{r['true_mode_jump_px']:.2f})"
+            )
+        lines.append(
+            f"| {r['clip']} | {r['tracker']} | {r['error_px']:.2f} ({r['error_p90_px']:.2f}) | "
+            f"{100 * r['folded_fraction']:.0f}% | {r['lost_in_third']} | {r['least_seen']:.2f} | "
+            f"{back} | {rec} | {opened} | {open_rec} | {jump} | "
+            f"{_num(r['consistency_mean'])} | {_num(r['consistency_p10'])} | "
+            f"{r['median_ms']:.1f} |"
+        )
+    return "\n".join(lines)
+
+
+def _recovery(at, frames) -> tuple[str, str]:
+    if at is None:
+        return "—", "—"
+    return str(at), ("never" if frames is None else str(frames))
+
+
+def _num(value) -> str:
+    """Three decimals, or a dash where the texture is too faint to judge (NaN)."""
+    return "—" if value is None or not np.isfinite(value) else f"{value:.3f}"
+
+
+def main(argv=None) -> int:
+    import argparse
+    import json
+
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--root", type=Path, default=FOLDS)
+    p.add_argument("--only", nargs="*", help="clip names")
+    p.add_argument("--trackers", nargs="*", default=["ours", "klt", "dis"])
+    p.add_argument("--json", help="write all rows (with per-frame series) here")
+    args = p.parse_args(argv)
+    rows = []
+    for clip in fold_clips(args.root):
+        if args.only and clip.name not in args.only:
+            continue
+        rows += run_fold_clip(clip, args.trackers)
+    if args.json:
+        Path(args.json).write_text(json.dumps(rows))
+    print(format_folds(rows))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
