@@ -403,7 +403,7 @@ def main(argv=None) -> int:
     if args.command in ("track", "live") and not (args.contour or args.blob):
         print(f"error: {args.command} needs --contour (or --blob)", file=sys.stderr)
         return 2
-    from .tracking.threads import single_blas_thread
+    from .threads import single_blas_thread
 
     try:
         with single_blas_thread():  # small linear algebra: threads only spin (see there)

@@ -13,6 +13,7 @@ import numpy as np
 from ..checks import finite, whole
 from ..errors import VoodooError
 from ..media.images import blur
+from ..threads import single_blas_thread
 from .crossing import first_crossing
 from .fem import assemble, quadrature_points, rms_radius, select_modes, similarity_fields
 from .interpolants import GaussianInterpolant
@@ -171,7 +172,14 @@ def build_blob(frame: np.ndarray, contour, options: BlobOptions | None = None) -
         For a bad outline (too few points, tiny, self-intersecting, off the frame, NaN) or
         a frame that is not an RGB picture.
     """
-    opt = options or BlobOptions()
+    # One BLAS thread: the same blob, to the last bit, however many threads a machine
+    # has (a multithreaded BLAS sums in another order), so that a take tracked again on
+    # the same machine is the same take.
+    with single_blas_thread():
+        return _build(frame, contour, options or BlobOptions())
+
+
+def _build(frame, contour, opt: BlobOptions) -> ActiveBlob:
     frame = np.asarray(frame)
     if frame.ndim != 3 or frame.shape[2] != 3 or frame.dtype != np.float32:
         raise VoodooError("The frame must be a float32 RGB picture (H, W, 3).")

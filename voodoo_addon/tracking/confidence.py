@@ -16,7 +16,7 @@ after the global white balance the fit found is undone) match the template's.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -28,9 +28,15 @@ from .params import ParamLayout
 QUALITY_SAMPLES = 1000
 #: A triangle-channel needs this many pixels for its correlation to count.
 MIN_PIXELS = 6
-#: Below this fraction of the textured blob seen (on the picture, not turned away), the
-#: quality falls in proportion.
+#: Below this fraction of the textured blob in view (on the picture, not turned away, not
+#: covered), the quality falls in proportion...
 FULL_VIEW = 0.6
+#: ...and below this fraction it is 0: too little is in view to register the doll (the
+#: tracker calls it lost). Less than ``evaluation.MIN_IN_VIEW`` (a third), so that a doll
+#: a third of which is in view is still followed.
+LEAST_VIEW = 0.2
+#: A triangle correlating below this with the template fits poorly (``Quality.poor``).
+POOR_CORRELATION = 0.5
 
 
 @dataclass(frozen=True)
@@ -42,19 +48,36 @@ class Quality:
     value : float
         In [0, 1]: texture-weighted mean local correlation of the triangles on the picture
         and not turned away (covered ones included), times the colour agreement and the
-        view factor.
+        view factor. How well the fit explains the whole doll: what the tracker weighs its
+        starts and its local stage by.
     correlation : float
         The mean local correlation alone, in [-1, 1].
     seen : float
         Fraction of the textured blob compared (on the picture, not turned away).
     colour : float
         The colour agreement, in [0, 1].
+    in_view : float
+        In [0, 1]: the same for the part in view only -- the triangles the fit kept, not
+        those it found covered, folded under or turned away -- with the view factor of
+        ``share``, and 0 below :data:`LEAST_VIEW`. The frame's confidence: whether the
+        doll is lost.
+    share : float
+        Fraction of the textured blob in view.
+    poor : (t,) bool or None
+        Textured triangles in view that do not correlate with the template (below
+        :data:`POOR_CORRELATION`): covered, or the fit is off there.
+    poor_share : float
+        Their fraction of the textured blob.
     """
 
     value: float
     correlation: float
     seen: float
     colour: float
+    in_view: float = 0.0
+    share: float = 0.0
+    poor: np.ndarray | None = field(default=None, compare=False, repr=False)
+    poor_share: float = 0.0
 
 
 class QualityMeter:
@@ -107,9 +130,12 @@ class QualityMeter:
                 s = (s - b) / np.exp(log_c)
         s = s.ravel()
         t = self.t
-        # Every triangle on the picture and not turned away is judged -- the ones the fit
-        # left out as occluded too: a fit that explains half of the blob and calls the
-        # other half covered has not shown that it is right.
+        # Every triangle on the picture and not turned away is judged for ``value`` -- the
+        # ones the fit left out as covered too: a fit that explains half of the doll and
+        # calls the other half covered has not shown that it is right. ``in_view`` judges
+        # the part the fit kept: a fold or a hand hiding part of the doll lowers it only
+        # through the view factor, and calling the rest covered needs the part in view to
+        # fit well first (see ``evaluation._coverable``).
         compared = ev.valid if ev.hidden is None else ev.valid & ~ev.hidden[self._triangle]
         if compared is not ev.valid or not ev.valid.all():
             use = np.repeat(compared[:: self.step].astype(np.float64), self.channels)
@@ -132,9 +158,22 @@ class QualityMeter:
         if not ok.any() or self.total <= 0:
             return Quality(0.0, 0.0, seen, 1.0)
         corr = float((w[ok] * ncc[ok]).sum() / w[ok].sum())
+        by_tri = np.nan_to_num(ncc * w).reshape(self.n_tri, self.channels).sum(axis=1)
+        tri_w = w.reshape(self.n_tri, self.channels).sum(axis=1)
+        poor = (tri_w > 0) & (by_tri < POOR_CORRELATION * tri_w)
+        poor_share = float(tri_w[poor].sum()) / self.total
         colour = self._colour_agreement(ms.reshape(self.n_tri, self.channels), count)
         value = max(corr, 0.0) * colour * min(1.0, seen / FULL_VIEW)
-        return Quality(float(value), corr, seen, colour)
+        kept = ev.triangle_weight > 0
+        if kept.all():
+            return Quality(float(value), corr, seen, colour, float(value), seen, poor, poor_share)
+        w = w * np.repeat(kept, self.channels)
+        share = float(w.sum()) / self.total
+        if share < LEAST_VIEW:
+            return Quality(float(value), corr, seen, colour, 0.0, share, poor, poor_share)
+        corr_kept = float((w[ok] * ncc[ok]).sum() / w[ok].sum())
+        in_view = max(corr_kept, 0.0) * colour * min(1.0, share / FULL_VIEW)
+        return Quality(float(value), corr, seen, colour, float(in_view), share, poor, poor_share)
 
     def _colour_agreement(self, frame_mean: np.ndarray, count: np.ndarray) -> float:
         """In [0, 1]: 1 when every coloured triangle has the template's chroma.

@@ -204,6 +204,7 @@ class DifferenceDecomposition:
         bail=None,
         anchor=None,
         template=None,
+        covered=None,
     ) -> LevelFit:
         """Iterate difference decomposition from ``a`` on ``image``.
 
@@ -229,6 +230,8 @@ class DifferenceDecomposition:
             frame's shape, not an extrapolation of it.
         template : (n, 3) float32, optional
             What the pixels are compared with instead of the level's template.
+        covered : (t,) bool, optional
+            Triangles to leave out as covered, instead of testing for occlusion.
         """
         solver = self.solver(active)  # may build a basis (which binds the template) first
         org, box = self.bind(image, origin)
@@ -241,7 +244,8 @@ class DifferenceDecomposition:
         nodes_a = self._nodes(a)
         its = 0
         full = level.index == 0  # level nodes are frame nodes: reuse them
-        occluded = None  # found once per fit, on the first evaluation close enough to tell
+        # Found once per fit, on the first evaluation close enough to tell (unless given).
+        occluded = covered
         for _ in range(cap or stopping.max_iterations):
             ev = self.evaluate(a, org, box, nodes_a if full else None, occluded, template)
             its += 1

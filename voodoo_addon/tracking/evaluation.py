@@ -25,17 +25,24 @@ from .norms import RobustNorm
 from .params import ParamLayout
 from .warp import WarpBackend
 
-#: Once the fit is good (the median lighting patch correlates with the template above
-#: :data:`ALIGNED_CORRELATION`), a patch that correlates below :data:`OCCLUDED_CORRELATION`
-#: is covered by something.
+#: Once the fit is good (the patches in view correlate with the template, see
+#: ``_coverable``), a patch that correlates below :data:`OCCLUDED_CORRELATION` is covered
+#: by something.
 ALIGNED_CORRELATION = 0.7
 OCCLUDED_CORRELATION = 0.5
 #: Global brightness and contrast changes smaller than this are not undone (half a grey
 #: level of an 8-bit picture).
 LIGHTING_EPS = 1.0 / 512
 
-#: Occlusion is only believed when it leaves at least this much of the seen blob.
+#: Occlusion found while the typical patch correlates may leave out at most this much of
+#: the seen blob...
 MAX_OCCLUDED = 0.5
+#: ...and when only the best third of the patches correlate, but above
+#: :data:`IN_VIEW_CORRELATION`, the rest may be left out as folded away or covered, down to
+#: this share of the blob (on the picture, not turned away) in view: the part in view is
+#: still registered on its own. With less in view, nothing is left out.
+MIN_IN_VIEW = 1.0 / 3.0
+IN_VIEW_CORRELATION = 0.85
 #: Per-channel robust error at which the compared residual saturates: the Lorentzian's value
 #: at three sigma (an error that large counts the same, however large).
 LOSS_CAP = float(np.log1p(4.5))
@@ -169,22 +176,23 @@ def evaluate(
     if hidden is not None:
         seen &= ~hidden
     weight = seen.astype(np.float64)
-    # Occlusion only at full resolution and once the fit is close (the typical lighting
-    # patch correlates): on coarse levels, or early in the iterations, a triangle that is
+    # Occlusion only at full resolution and once the fit is close (the patches in view
+    # correlate): on coarse levels, or early in the iterations, a triangle that is
     # merely misaligned looks occluded, and dropping it loses the texture that would align it.
     detected = None
     if occluded is not None:
         weight[occluded] = 0.0
     if occluded is None and level.finest and seen.any():
         compare(mask, correlate=True)
-        if _aligned(compare.correlation):
+        most = _coverable(compare.correlation)
+        if most > 0.0:
             r_tri = compare.triangle_loss / np.maximum(count, 1.0)
             limit = outlier_factor * max(float(np.median(r_tri[seen])), floor)
             out = seen & (r_tri > limit)
             if compare.correlation is not None:
                 low = np.nan_to_num(compare.correlation, nan=1.0) < OCCLUDED_CORRELATION
                 out |= seen & low[level.patch_of_triangle]
-            if not out.any() or size[out].sum() > MAX_OCCLUDED * size[seen].sum():
+            if not out.any() or size[out].sum() > most * size[seen].sum():
                 out[:] = False
             weight[out] = 0.0
             detected = out
@@ -305,9 +313,23 @@ def _used(level: Level, mask: np.ndarray, weight: np.ndarray) -> np.ndarray:
     return mask & (weight[level.triangle] > 0)
 
 
-def _aligned(correlation) -> bool:
-    """The typical lighting patch correlates with the template (None: no patches, assume so)."""
+def _coverable(correlation) -> float:
+    """How much of the seen blob may be called covered, from how well the patches correlate.
+
+    The typical patch correlates (above :data:`ALIGNED_CORRELATION`): the fit is close, and
+    up to :data:`MAX_OCCLUDED` of the blob may be covered. Or only the best
+    :data:`MIN_IN_VIEW` of the patches correlate, but they do closely (above
+    :data:`IN_VIEW_CORRELATION`): the rest is folded away or covered, and up to all but
+    that third may be. Otherwise 0: the fit is not close enough to tell covered from
+    misaligned. Without lighting patches: :data:`MAX_OCCLUDED`.
+    """
     if correlation is None:
-        return True
+        return MAX_OCCLUDED
     known = correlation[np.isfinite(correlation)]
-    return len(known) > 0 and float(np.median(known)) >= ALIGNED_CORRELATION
+    if not len(known):
+        return 0.0
+    if float(np.median(known)) >= ALIGNED_CORRELATION:
+        return MAX_OCCLUDED
+    if float(np.quantile(known, 1.0 - MIN_IN_VIEW)) >= IN_VIEW_CORRELATION:
+        return 1.0 - MIN_IN_VIEW
+    return 0.0

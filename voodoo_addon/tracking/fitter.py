@@ -16,6 +16,7 @@ import numpy as np
 
 from ..blob.model import ActiveBlob
 from .confidence import Quality, QualityMeter
+from .creases import CreaseSearch
 from .decomposition import DifferenceDecomposition, Evaluation, LevelFit, Stopping
 from .folding import FoldGuard
 from .level import Level
@@ -41,7 +42,8 @@ class Fit:
     ----------
     params : (P,) float64
     confidence : float
-        0 when nothing could be fitted.
+        ``Quality.value``: how well the whole doll is explained; 0 when nothing could be
+        fitted.
     iterations : int
         Warps evaluated over all levels.
     residual : float
@@ -56,6 +58,8 @@ class Fit:
         The frame as the fit read it (for the local stage).
     evaluation : Evaluation or None
         The finest level's last comparison.
+    covered : (t,) bool or None
+        The triangles the fit was told to leave out as covered (None: it tested).
     """
 
     params: np.ndarray
@@ -67,6 +71,12 @@ class Fit:
     visible: np.ndarray | None = None
     pictures: tuple | None = None
     evaluation: Evaluation | None = None
+    covered: np.ndarray | None = None
+
+    @property
+    def in_view(self) -> float:
+        """The quality of the part in view (see ``Quality.in_view``); 0 when nothing fitted."""
+        return 0.0 if self.quality is None else self.quality.in_view
 
 
 class CoarseToFineFitter:
@@ -121,14 +131,17 @@ class CoarseToFineFitter:
             )
             for lv in levels
         ]
+        self._base = None
         self.frozen: frozenset = frozenset()
         self._active: dict = {}
         self._anchor = None
         self._template = None
+        self._covered = None
         self.quality = QualityMeter(levels[0], layout)
         self.refiner = LocalRefiner(
             self.levels[0], blob, layout, self.guard, norm.sigma, self.nodes, self.quality
         )
+        self.creases = CreaseSearch(self.refiner, blob)
 
     def set_cover(self, cover) -> None:
         """What covers the blob in the next frames (a ``Cover``, or None: nothing known)."""
@@ -137,15 +150,34 @@ class CoarseToFineFitter:
                 step.cover = cover
 
     def nodes(self, a: np.ndarray, offsets: np.ndarray | None = None) -> np.ndarray:
-        """Mesh nodes (m, 2) in frame pixels for parameters ``a`` (and local offsets)."""
+        """Mesh nodes (m, 2) in frame pixels for ``a`` and local offsets.
+
+        The offsets default to the base offsets (see :meth:`set_base`).
+        """
         return node_positions(
             a,
             self.layout,
             self.blob.vertices,
             self.blob.modes[:, : self.layout.n_modes],
             self.blob.centre,
-            offsets,
+            self._base if offsets is None else offsets,
         )
+
+    @property
+    def base_offsets(self) -> np.ndarray | None:
+        """The offsets the modal fit works on top of (see :meth:`set_base`)."""
+        return self._base
+
+    def set_base(self, offsets) -> None:
+        """Node offsets (m, 2, rest frame) the modal fit works on top of, or None.
+
+        While a crease is followed its offsets are most of the doll's shape; a fit that
+        started from the modes alone would start far off.
+        """
+        self._base = offsets
+        for step in self.levels:
+            lv = step.level
+            lv.offsets = None if offsets is None else offsets * lv.scale
 
     def unfolded(self, a: np.ndarray) -> np.ndarray:
         """``a`` with its modes pulled towards rest as far as needed to fold nothing."""
@@ -226,6 +258,7 @@ class CoarseToFineFitter:
         anchor=None,
         template=None,
         checked: bool = False,
+        covered=None,
     ) -> Fit:
         """Register from the best of ``seeds`` (the first is the preferred start).
 
@@ -233,7 +266,8 @@ class CoarseToFineFitter:
         :meth:`DifferenceDecomposition.fit`); by default the first seed. ``template`` (n, 3)
         is what the finest level's pixels are compared with instead of the blob's template
         (the coarse levels always use the template). ``checked``: the seeds and the anchor
-        are known to fold nothing (the tracker's own states and predictions).
+        are known to fold nothing (the tracker's own states and predictions). ``covered``
+        (t,) bool: triangles the finest level leaves out as covered instead of testing.
 
         1. Unless searching wide, the finest level is tried first from ``seeds[0]``: when
            the prediction was good that is all a frame needs.
@@ -254,6 +288,7 @@ class CoarseToFineFitter:
             anchor = seeds[0]
         self._anchor = anchor if checked else self.unfolded(anchor)
         self._template = template
+        self._covered = covered
         limit = 3.0 * known_residual if known_residual is not None and not wide else 0.0
         its = 0
         best = None
@@ -279,14 +314,33 @@ class CoarseToFineFitter:
             return Fit(start, 0.0, its)
         q = self.quality(ev, best.params)
         visible = ev.triangle_weight > 0
-        return Fit(best.params, q.value, its, ev.residual, ev.occluded_share, q, visible, pyr)
+        return Fit(
+            best.params,
+            q.value,
+            its,
+            ev.residual,
+            ev.occluded_share,
+            q,
+            visible,
+            pyr,
+            covered=covered,
+        )
 
     def refine(self, fit: Fit, offsets: np.ndarray, template=None):
         """The local stage from ``offsets`` (m, 2) on a fit's frame (see :mod:`.refine`).
 
         Returns (offsets, quality, evaluation), or None when nothing could be compared.
         """
-        return self.refiner.run(fit.params, fit.confidence, fit.pictures, offsets, template)
+        return self.refiner.run(
+            fit.params, fit.confidence, fit.pictures, offsets, template, fit.covered
+        )
+
+    def crease(self, fit: Fit, offsets: np.ndarray, template=None):
+        """Crease offsets from ``offsets`` (m, 2) on a fit's frame (see :mod:`.creases`).
+
+        Returns (offsets, quality, evaluation, line), or None.
+        """
+        return self.creases.search(fit.params, fit.pictures, offsets, template, fit.covered)
 
     def _level_fit(self, step: DifferenceDecomposition, images, origin, a, cap=None, bail=None):
         return step.fit(
@@ -299,6 +353,7 @@ class CoarseToFineFitter:
             bail,
             self._anchor,
             self._template if step.level.finest else None,
+            self._covered if step.level.finest else None,
         )
 
     def _descend(self, images, origin, start, wide: bool) -> LevelFit:

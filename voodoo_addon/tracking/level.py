@@ -68,6 +68,9 @@ class Level:
         self.vertices = blob.vertices * f
         self.modes = blob.modes[:, : layout.n_modes] * f  # level pixels per unit amplitude
         self.length = blob.length * f
+        #: Node offsets (m, 2) the modal fit works on top of (the local stage's, level
+        #: pixels, rest frame), or None (see ``CoarseToFineFitter.set_base``).
+        self.offsets = None
         if index == 0:
             coords, tri, weights = blob.pixel_coords, blob.pixel_triangle, blob.pixel_weights
         else:
@@ -173,7 +176,9 @@ class Level:
         """Mesh nodes under the warp ``a``, level coordinates (m, 2)."""
         shifted = a.copy()
         shifted[:2] *= self.scale
-        return node_positions(shifted, self.layout, self.vertices, self.modes, self.centre)
+        return node_positions(
+            shifted, self.layout, self.vertices, self.modes, self.centre, self.offsets
+        )
 
     # ------------------------------------------------------------------ basis
 
@@ -199,6 +204,7 @@ class Level:
         lay = self.layout
         delta = self.steps()
         steps = (-2.0, -1.0, 1.0, 2.0)
+        kept, self.offsets = self.offsets, None  # the basis is of the template itself
         n = len(self)
         b = np.empty((3 * n, 4 * len(active)))
         nmat = np.zeros((len(active), 4 * len(active)))
@@ -227,6 +233,7 @@ class Level:
                     nodes = self.nodes(a) - self.texture_origin
                     diff = i0 - backend.sample(self.geometry, nodes, pos)
                 b[:, col] = diff.ravel()
+        self.offsets = kept
         if self.patches is not None:
             b = self.patches.project_basis(b.reshape(n, 3, -1)).reshape(3 * n, -1)
         return b, nmat

@@ -104,6 +104,13 @@ class LocalRefiner:
         lap = graph_laplacian(m, level.geometry.triangles)
         self.laplacian = np.kron(lap, np.eye(2))  # (2m, 2m), x and y interleaved
 
+    def bare(self, a: np.ndarray) -> np.ndarray:
+        """The modal shape ``X - c + Phi a`` (m, 2), rest frame, level-0 pixels."""
+        bare = self._vertices - self._centre
+        if self.layout.n_modes:
+            bare = bare + (self._modes @ a[self.layout.modes]).reshape(-1, 2)
+        return bare
+
     def sample_gradients(self, image: np.ndarray, nodes: np.ndarray, origin) -> np.ndarray:
         """The picture's derivatives (n', 6) at the picked pixels of the mesh on ``nodes``.
 
@@ -143,7 +150,7 @@ class LocalRefiner:
         )
         return hess.reshape(2 * m, 2 * m), grad.ravel()
 
-    def run(self, a, confidence, pictures, offsets, template=None):
+    def run(self, a, confidence, pictures, offsets, template=None, covered=None):
         """Refine the node offsets on a fit's frame, from ``offsets`` (m, 2).
 
         Parameters
@@ -158,6 +165,8 @@ class LocalRefiner:
             Where to start (the last frame's), rest frame, level-0 pixels.
         template : (n, 3) float32, optional
             What the pixels are compared with instead of the template.
+        covered : (t,) bool, optional
+            Triangles to leave out as covered, instead of testing for occlusion.
 
         Returns
         -------
@@ -168,14 +177,12 @@ class LocalRefiner:
         held = hold(confidence)
         org, box = step.bind(images[step.index], origin)
         image = images[step.index]
-        bare = self._vertices - self._centre  # the modal shape X - c + Phi a
-        if self.layout.n_modes:
-            bare = bare + (self._modes @ a[self.layout.modes]).reshape(-1, 2)
+        bare = self.bare(a)
         # The offsets carried from the last frame sit on this frame's modal shape: pull them
         # back as far as needed for no triangle to fold there.
         u = self.guard.shape_step(bare, offsets) * offsets
         sub_template = None if template is None else np.ascontiguousarray(template[self.rows])
-        best, occluded = None, None
+        best, occluded = None, covered
 
         def compare(u):
             nodes = self._nodes(a, u) * level.scale

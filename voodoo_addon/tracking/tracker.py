@@ -14,13 +14,13 @@ import numpy as np
 
 from ..blob.model import ActiveBlob
 from ..errors import VoodooError
+from ..threads import single_blas_thread
 from .evaluation import Cover
 from .fitter import CoarseToFineFitter, Fit
 from .norms import LorentzianNorm, RobustNorm
 from .options import TrackerOptions
 from .params import ParamLayout
 from .proposals import FeatureMatcher, MotionProposal
-from .threads import single_blas_thread
 from .warp import CpuWarp, WarpBackend
 
 #: No local stage in a frame where the doll moved more than this (pixels): such a frame is
@@ -29,6 +29,11 @@ REFINE_MOTION = 12.0
 #: The local stage's offsets are kept only when they raise the confidence by this much:
 #: small gains are mostly the nodes bending to fit noise or motion blur.
 REFINE_GAIN = 0.05
+#: When the fit (with the local stage) explains the doll less well than this, creases
+#: through it are tried (see :mod:`.creases`).
+CREASE_BELOW = 0.6
+#: A crease search that found nothing is not made again until the fit is worse by this.
+CREASE_DROP = 0.1
 #: Below this confidence a frame whose points were followed still looks for the template's
 #: features (SIFT, the costliest start); between it and ``propose_below`` the points' start
 #: is enough.
@@ -36,6 +41,18 @@ FEATURES_BELOW = 0.45
 #: A feature start that fits no better than the other starts was futile: the next frames
 #: look for features again only once their fit is worse by this much.
 FUTILE_DROP = 0.02
+#: After a frame where less than this share of the textured doll was in view (folded
+#: under, turned away, covered), each frame also fits from the doll's rest shape at the
+#: fitted pose: the part that was hidden may be back, and it comes back near its rest
+#: shape far more often than in the shape it was last seen in.
+RETURN_BELOW = 0.75
+#: The fit from the rest shape is taken when it fits better and brings this much more of
+#: the textured doll into view: the hidden part is back.
+RETURN_GAIN = 0.1
+#: Poorly fitting triangles are taken for a part folded away or covered when they make up
+#: at least this share of the triangles beyond some line across the doll.
+ONE_SIDE = 0.65
+ONE_SIDE_STRAY = 0.15
 #: The template's least share in the appearance a frame is compared with (see
 #: ``Tracker._adapt``): however far the surface's look has drifted, the first frame keeps
 #: this much say, so that errors cannot pile up unchecked.
@@ -53,9 +70,10 @@ class TrackResult:
     nodes : (m, 2) float64
         Mesh nodes in the frame, pixel coordinates.
     confidence : float
-        In [0, 1]: the fit's quality -- the local correlation of template and frame,
-        texture-weighted, times a factor that falls when less than half of the textured blob
-        is seen (see :mod:`.confidence`).
+        In [0, 1]: the fit's quality on the part of the doll in view -- the local
+        correlation of template and frame, texture-weighted, times a factor that falls when
+        less than 60% of the textured doll is in view and is 0 under 20% (see
+        :mod:`.confidence`, ``Quality.in_view``).
     lost : bool
         True when the blob was not found in this frame (``params`` are then held).
     iterations : int
@@ -157,6 +175,11 @@ class Tracker:
         self._offsets = None
         self._template = None
         self._futile = np.inf
+        self._crease_futile = np.inf
+        self.fitter.creases.forget()
+        self.fitter.set_base(None)
+        self._centroids = None
+        self._hidden = None  # (t,) bool: the part out of view in the last frame, when large
 
     def nodes(self, a: np.ndarray, offsets: np.ndarray | None = None) -> np.ndarray:
         """Mesh nodes (m, 2) in frame pixels for parameters ``a`` (and local offsets)."""
@@ -191,8 +214,12 @@ class Tracker:
         opt = self.options
         was_lost = self.lost
         need = opt.reacquire_above if was_lost else opt.lost_below
+        # While a crease is followed, the modal fit starts from the creased shape.
+        following = not was_lost and self.fitter.creases.line is not None
+        self.fitter.set_base(self._offsets if following else None)
         if was_lost:
-            fit = self._fit(frame, [self.last_good], wide=True)
+            seeds = [self.last_good, self._at_rest(self.last_good)]
+            fit = self._fit(frame, seeds, wide=True)
         else:
             pred = self._predict()
             seeds = [pred] if np.array_equal(pred, self.state) else [pred, self.state]
@@ -217,20 +244,29 @@ class Tracker:
                 self._futile = np.inf if gained else fit.confidence - FUTILE_DROP
                 if other is not None:
                     fit, its = self._better(fit, other, its)
+        if not was_lost:
+            fit, its = self._hidden_part(frame, fit, its)
         # Before giving up: a wide search from the last good pose, then from features.
         for fallback in (self._wide_start, self._feature_start):
-            if fit.confidence >= need or (tried_features and fallback == self._feature_start):
+            if fit.in_view >= need or (tried_features and fallback == self._feature_start):
                 break
             start2 = fallback(frame, was_lost)
             if start2 is not None:
                 fit, its = self._better(fit, self._fit(frame, [start2], wide=True), its)
         warnings = []
-        conf, visible = fit.confidence, fit.visible
-        if fit.confidence >= opt.propose_below or fit.confidence < need:
+        conf, visible = fit.in_view, fit.visible
+        if fit.confidence >= opt.propose_below or fit.in_view < need:
             self._futile = np.inf  # fitting well again, or lost: features may help again
-        if fit.confidence >= need:
-            conf, visible, ev = self._refine(fit)
-            self._adapt(ev, fit.params, conf)
+        # The local stage and creases run before the verdict: a doll folding faster than the
+        # modes can bend is not lost when they explain it.
+        kept = self._offsets
+        refined = None
+        if fit.in_view >= need or (not was_lost and fit.quality is not None):
+            refined = self._refine(fit)
+        if refined is not None and max(fit.in_view, refined[0].in_view) >= need:
+            quality, visible, ev = refined
+            conf = quality.in_view
+            self._adapt(ev, fit.params, quality.value)
             a = fit.params
             self._last_residual = fit.residual
             self._prev = None if was_lost else self.state.copy()
@@ -238,14 +274,20 @@ class Tracker:
             self.last_good = a.copy()
             self.lost = False
             params = a
+            hidden = quality.share < RETURN_BELOW and visible is not None
+            self._hidden = ~np.asarray(visible, bool) if hidden else None
         else:
+            self._offsets = kept
+            self.fitter.creases.forget()
             self.lost = True
             self.state = self.last_good.copy()
             self._prev = None
             params = self.last_good.copy()
             visible = None
             self._template = None
+            self._hidden = None
             warnings.append("The blob is lost: holding its last good pose.")
+        self.fitter.set_base(None)
         nodes = self.nodes(params, self._offsets)
         self._previous = frame
         return TrackResult(
@@ -271,8 +313,9 @@ class Tracker:
     def _refine(self, fit: Fit):
         """The local stage (node offsets) when the modal fit leaves much unexplained.
 
-        Returns the frame's (confidence, visible triangles, finest evaluation). The offsets
-        carry over to the next frame; after a good modal fit they are dropped.
+        Returns the frame's (Quality, visible triangles, finest evaluation). The offsets
+        carry over to the next frame; after a good modal fit they are dropped (but for a
+        crease being followed, which the modal fit started from).
         """
         moved = np.linalg.norm(fit.params[:2] - self.state[:2])
         if (
@@ -280,15 +323,42 @@ class Tracker:
             or fit.pictures is None
             or moved > REFINE_MOTION
         ):
-            self._offsets = None
-            return fit.confidence, fit.visible, fit.evaluation
+            self._offsets = self._kept_base(fit.params)  # the crease followed, if any
+            return fit.quality, fit.visible, fit.evaluation
         start = np.zeros_like(self.blob.vertices) if self._offsets is None else self._offsets
         out = self.fitter.refine(fit, start, self._template)
         if out is None or out[1].value < fit.confidence + REFINE_GAIN:
-            self._offsets = None
-            return fit.confidence, fit.visible, fit.evaluation
-        self._offsets, quality, ev = out
-        return quality.value, ev.triangle_weight > 0, ev
+            self._offsets = self._kept_base(fit.params)
+            quality, visible, ev = fit.quality, fit.visible, fit.evaluation
+        else:
+            self._offsets, quality, ev = out
+            visible = ev.triangle_weight > 0
+        creases = self.fitter.creases
+        if quality.value >= CREASE_BELOW:
+            creases.forget()
+            self._crease_futile = np.inf
+            return quality, visible, ev
+        if creases.line is None and quality.value >= self._crease_futile:
+            return quality, visible, ev
+        base = start if self._offsets is None else self._offsets
+        found = self.fitter.crease(fit, base, self._template)
+        if found is None or found[1].value < quality.value + REFINE_GAIN:
+            # No crease helps: none is looked for again until the fit gets worse.
+            self._crease_futile = quality.value - CREASE_DROP
+            creases.forget()
+            return quality, visible, ev
+        self._offsets, quality, ev, creases.line = found
+        return quality, ev.triangle_weight > 0, ev
+
+    def _kept_base(self, a: np.ndarray) -> np.ndarray | None:
+        """The base offsets the fit started from, or None when there were none.
+
+        Pulled back as far as needed for no triangle to fold on the fitted modes.
+        """
+        base = self.fitter.base_offsets
+        if base is None:
+            return None
+        return self.fitter.guard.shape_step(self.fitter.refiner.bare(a), base) * base
 
     def _adapt(self, ev, a, confidence: float) -> None:
         """The appearance to compare the next frame with (see :data:`MIN_ANCHOR`).
@@ -312,15 +382,68 @@ class Tracker:
         mixed = np.where(ev.use[:, None], anchor * t0 + (1.0 - anchor) * seen, t0)
         self._template = mixed.astype(np.float32)
 
-    def _fit(self, frame, seeds, wide: bool = False, checked: bool = False) -> Fit:
+    def _fit(self, frame, seeds, wide: bool = False, checked: bool = False, covered=None) -> Fit:
         anchor = None if self.lost else self.state
         template = None if wide else self._template
-        return self.fitter.fit(frame, seeds, wide, self._last_residual, anchor, template, checked)
+        return self.fitter.fit(
+            frame, seeds, wide, self._last_residual, anchor, template, checked, covered
+        )
 
     @staticmethod
     def _better(fit: Fit, other: Fit, its: int):
         """The fit with the higher confidence, and the iterations of both."""
         return (other if other.confidence > fit.confidence else fit), its + other.iterations
+
+    def _hidden_part(self, frame, fit: Fit, its: int):
+        """Two more fits after a frame with a large part of the doll out of view.
+
+        - *Still hidden*: when this frame's fit did not find the part out of view (its
+          comparison was not close enough to tell), the fit with that part left out, taken
+          when it explains the doll no worse and the part in view better.
+        - *Back*: the fit from the rest shape (see :data:`RETURN_BELOW`), taken when it
+          explains the doll better and brings the hidden part back into view.
+
+        Returns (fit, iterations).
+        """
+        opt = self.options
+        covered = self._hidden
+        q = fit.quality
+        if covered is None and q is not None and q.poor_share >= 1.0 - RETURN_BELOW:
+            covered = q.poor if self._one_side(q.poor) else None
+        if fit.in_view < opt.propose_below and covered is not None:
+            held = self._fit(frame, [fit.params], covered=covered)
+            its += held.iterations
+            if held.confidence >= fit.confidence and held.in_view > fit.in_view:
+                fit = held
+        if self._hidden is not None and fit.confidence < opt.refine_below:
+            back = self._fit(frame, [self._at_rest(fit.params)])
+            its += back.iterations
+            if _returned(fit, back):
+                fit = back
+        return fit, its
+
+    def _one_side(self, poor: np.ndarray) -> bool:
+        """The poorly fitting triangles lie beyond a line across the doll.
+
+        A fold, a turn or a hand from one side hides a part like that; a crumple the fit
+        cannot follow scatters them over the doll.
+        """
+        if self._centroids is None:
+            self._centroids = self.blob.vertices[self.blob.triangles].mean(axis=1)
+        for angle in np.arange(8) * (np.pi / 4):
+            along = self._centroids @ np.array([np.cos(angle), np.sin(angle)])
+            # Beyond the line that leaves all but a few stray ones (ONE_SIDE_STRAY) behind it.
+            beyond = along >= np.quantile(along[poor], ONE_SIDE_STRAY)
+            if np.count_nonzero(poor & beyond) >= ONE_SIDE * np.count_nonzero(beyond):
+                return True
+        return False
+
+    def _at_rest(self, a: np.ndarray) -> np.ndarray:
+        """``a`` with the doll's free modes at rest (its pose and lighting kept)."""
+        out = a.copy()
+        modes = [k for k in range(self.layout.size)[self.layout.modes] if k not in self.frozen]
+        out[modes] = 0.0
+        return out
 
     def _keep_frozen(self, guess: np.ndarray) -> np.ndarray:
         frozen = list(self.frozen)
@@ -384,3 +507,11 @@ class Tracker:
             modes = lay.modes
             a[modes] += self.fitter.guard.max_step(a[modes], vel[modes]) * vel[modes]
         return a
+
+
+def _returned(fit: Fit, back: Fit) -> bool:
+    """The fit from the rest shape (``back``) shows the hidden part back in view."""
+    if back.quality is None or fit.quality is None:
+        return back.quality is not None
+    gain = back.quality.share - fit.quality.share
+    return back.confidence > fit.confidence and gain >= RETURN_GAIN

@@ -1,4 +1,4 @@
-"""One BLAS thread while tracking (see :func:`single_blas_thread`)."""
+"""One BLAS thread while building a blob and tracking (see :func:`single_blas_thread`)."""
 
 from __future__ import annotations
 
