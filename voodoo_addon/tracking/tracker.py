@@ -53,6 +53,9 @@ RETURN_GAIN = 0.1
 #: at least this share of the triangles beyond some line across the doll.
 ONE_SIDE = 0.65
 ONE_SIDE_STRAY = 0.15
+#: A fit below ``reacquire_above`` whose nodes moved more than this many RMS radii from the
+#: last frame's is taken for lost (see ``Tracker._found``).
+LEAP = 0.15
 #: The template's least share in the appearance a frame is compared with (see
 #: ``Tracker._adapt``): however far the surface's look has drifted, the first frame keeps
 #: this much say, so that errors cannot pile up unchecked.
@@ -261,9 +264,9 @@ class Tracker:
         # modes can bend is not lost when they explain it.
         kept = self._offsets
         refined = None
-        if fit.in_view >= need or (not was_lost and fit.quality is not None):
+        if fit.quality is not None and (not was_lost or fit.in_view >= opt.lost_below):
             refined = self._refine(fit)
-        if refined is not None and max(fit.in_view, refined[0].in_view) >= need:
+        if refined is not None and self._found(fit, refined[0]):
             quality, visible, ev = refined
             conf = quality.in_view
             self._adapt(ev, fit.params, quality.value)
@@ -349,6 +352,27 @@ class Tracker:
             return quality, visible, ev
         self._offsets, quality, ev, creases.line = found
         return quality, ev.triangle_weight > 0, ev
+
+    def _found(self, fit: Fit, refined) -> bool:
+        """Whether this frame's fit finds the doll (else it is lost).
+
+        Sure enough (``lost_below``) near where the doll was, or as sure as a re-acquisition
+        (``reacquire_above``) anywhere: a fit whose modal mesh lies more than :data:`LEAP`
+        RMS radii from the last frame's (or, while lost, the last good one's) must be as
+        sure as one that finds a lost doll again. When a fold or a turn leaves every start
+        poor, one of them can fit a wrong place just above ``lost_below``, and the track
+        would go on from there; a doll lost while folded is found again where it was as soon
+        as it fits there.
+        """
+        opt = self.options
+        sure = max(fit.in_view, refined.in_view)
+        if sure < opt.lost_below:
+            return False
+        if sure >= opt.reacquire_above:
+            return True
+        zero = np.zeros_like(self.blob.vertices)
+        moved = self.fitter.nodes(fit.params, zero) - self.fitter.nodes(self.state, zero)
+        return float(np.sqrt((moved**2).sum(axis=1).mean())) <= LEAP * self.blob.length
 
     def _kept_base(self, a: np.ndarray) -> np.ndarray | None:
         """The base offsets the fit started from, or None when there were none.
