@@ -17,6 +17,7 @@ from ..errors import VoodooError
 from ..threads import single_blas_thread
 from .evaluation import Cover
 from .fitter import CoarseToFineFitter, Fit
+from .hidden import HiddenPart, at_rest, returned
 from .norms import LorentzianNorm, RobustNorm
 from .options import TrackerOptions
 from .params import ParamLayout
@@ -41,18 +42,6 @@ FEATURES_BELOW = 0.45
 #: A feature start that fits no better than the other starts was futile: the next frames
 #: look for features again only once their fit is worse by this much.
 FUTILE_DROP = 0.02
-#: After a frame where less than this share of the textured doll was in view (folded
-#: under, turned away, covered), each frame also fits from the doll's rest shape at the
-#: fitted pose: the part that was hidden may be back, and it comes back near its rest
-#: shape far more often than in the shape it was last seen in.
-RETURN_BELOW = 0.75
-#: The fit from the rest shape is taken when it fits better and brings this much more of
-#: the textured doll into view: the hidden part is back.
-RETURN_GAIN = 0.1
-#: Poorly fitting triangles are taken for a part folded away or covered when they make up
-#: at least this share of the triangles beyond some line across the doll.
-ONE_SIDE = 0.65
-ONE_SIDE_STRAY = 0.15
 #: A fit below ``reacquire_above`` whose nodes moved more than this many RMS radii from the
 #: last frame's is taken for lost (see ``Tracker._found``).
 LEAP = 0.15
@@ -138,6 +127,7 @@ class Tracker:
         self.frame_size = tuple(int(v) for v in blob.frame_size)
         self._matcher = FeatureMatcher(blob, self.layout) if opt.features else None
         self._motion = MotionProposal(blob, self.layout)
+        self._hidden = HiddenPart(blob.vertices, blob.triangles)
         self.set_frozen(frozen)
         self.reset()
 
@@ -181,8 +171,7 @@ class Tracker:
         self._crease_futile = np.inf
         self.fitter.creases.forget()
         self.fitter.set_base(None)
-        self._centroids = None
-        self._hidden = None  # (t,) bool: the part out of view in the last frame, when large
+        self._hidden.forget()
 
     def nodes(self, a: np.ndarray, offsets: np.ndarray | None = None) -> np.ndarray:
         """Mesh nodes (m, 2) in frame pixels for parameters ``a`` (and local offsets)."""
@@ -221,7 +210,7 @@ class Tracker:
         following = not was_lost and self.fitter.creases.line is not None
         self.fitter.set_base(self._offsets if following else None)
         if was_lost:
-            seeds = [self.last_good, self._at_rest(self.last_good)]
+            seeds = [self.last_good, at_rest(self.last_good, self.layout, self.frozen)]
             fit = self._fit(frame, seeds, wide=True)
         else:
             pred = self._predict()
@@ -277,8 +266,7 @@ class Tracker:
             self.last_good = a.copy()
             self.lost = False
             params = a
-            hidden = quality.share < RETURN_BELOW and visible is not None
-            self._hidden = ~np.asarray(visible, bool) if hidden else None
+            self._hidden.remember(quality.share, visible)
         else:
             self._offsets = kept
             self.fitter.creases.forget()
@@ -288,7 +276,7 @@ class Tracker:
             params = self.last_good.copy()
             visible = None
             self._template = None
-            self._hidden = None
+            self._hidden.forget()
             warnings.append("The blob is lost: holding its last good pose.")
         self.fitter.set_base(None)
         nodes = self.nodes(params, self._offsets)
@@ -419,55 +407,20 @@ class Tracker:
         return (other if other.confidence > fit.confidence else fit), its + other.iterations
 
     def _hidden_part(self, frame, fit: Fit, its: int):
-        """Two more fits after a frame with a large part of the doll out of view.
-
-        - *Still hidden*: when this frame's fit did not find the part out of view (its
-          comparison was not close enough to tell), the fit with that part left out, taken
-          when it explains the doll no worse and the part in view better.
-        - *Back*: the fit from the rest shape (see :data:`RETURN_BELOW`), taken when it
-          explains the doll better and brings the hidden part back into view.
-
-        Returns (fit, iterations).
-        """
+        """The *still hidden* and *back* fits (see :mod:`.hidden`); (fit, iterations)."""
         opt = self.options
-        covered = self._hidden
-        q = fit.quality
-        if covered is None and q is not None and q.poor_share >= 1.0 - RETURN_BELOW:
-            covered = q.poor if self._one_side(q.poor) else None
+        covered = self._hidden.covered(fit.quality)
         if fit.in_view < opt.propose_below and covered is not None:
             held = self._fit(frame, [fit.params], covered=covered)
             its += held.iterations
             if held.confidence >= fit.confidence and held.in_view > fit.in_view:
                 fit = held
-        if self._hidden is not None and fit.confidence < opt.refine_below:
-            back = self._fit(frame, [self._at_rest(fit.params)])
+        if self._hidden.triangles is not None and fit.confidence < opt.refine_below:
+            back = self._fit(frame, [at_rest(fit.params, self.layout, self.frozen)])
             its += back.iterations
-            if _returned(fit, back):
+            if returned(fit, back):
                 fit = back
         return fit, its
-
-    def _one_side(self, poor: np.ndarray) -> bool:
-        """The poorly fitting triangles lie beyond a line across the doll.
-
-        A fold, a turn or a hand from one side hides a part like that; a crumple the fit
-        cannot follow scatters them over the doll.
-        """
-        if self._centroids is None:
-            self._centroids = self.blob.vertices[self.blob.triangles].mean(axis=1)
-        for angle in np.arange(8) * (np.pi / 4):
-            along = self._centroids @ np.array([np.cos(angle), np.sin(angle)])
-            # Beyond the line that leaves all but a few stray ones (ONE_SIDE_STRAY) behind it.
-            beyond = along >= np.quantile(along[poor], ONE_SIDE_STRAY)
-            if np.count_nonzero(poor & beyond) >= ONE_SIDE * np.count_nonzero(beyond):
-                return True
-        return False
-
-    def _at_rest(self, a: np.ndarray) -> np.ndarray:
-        """``a`` with the doll's free modes at rest (its pose and lighting kept)."""
-        out = a.copy()
-        modes = [k for k in range(self.layout.size)[self.layout.modes] if k not in self.frozen]
-        out[modes] = 0.0
-        return out
 
     def _keep_frozen(self, guess: np.ndarray) -> np.ndarray:
         frozen = list(self.frozen)
@@ -531,11 +484,3 @@ class Tracker:
             modes = lay.modes
             a[modes] += self.fitter.guard.max_step(a[modes], vel[modes]) * vel[modes]
         return a
-
-
-def _returned(fit: Fit, back: Fit) -> bool:
-    """The fit from the rest shape (``back``) shows the hidden part back in view."""
-    if back.quality is None or fit.quality is None:
-        return back.quality is not None
-    gain = back.quality.share - fit.quality.share
-    return back.confidence > fit.confidence and gain >= RETURN_GAIN

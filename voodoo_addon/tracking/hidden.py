@@ -1,0 +1,103 @@
+"""The part of a doll out of view: kept out while it is hidden, found again when it is back.
+
+A fold, a turn in depth or a hand hides part of a doll for a while. :class:`HiddenPart` is
+what the tracker remembers of it from frame to frame, and the two more fits it asks for
+(:meth:`Tracker._hidden_part <voodoo_addon.tracking.tracker.Tracker>`):
+
+- *still hidden*: a frame whose comparison was not close enough to tell covered from
+  misaligned is fitted once more with the part left out -- the part out of view in the last
+  frame, or else this frame's poorly fitting triangles when they lie beyond a line across
+  the doll (:meth:`HiddenPart.covered`);
+- *back*: after a frame with a large part out of view, the fit from the doll's rest shape
+  (:func:`at_rest`) is taken when it brings that part back into view
+  (:func:`returned`): a folded part comes back near its rest shape far more often than in
+  the shape it was last seen in.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: After a frame where less than this share of the textured doll was in view (folded
+#: under, turned away, covered), that part is remembered and the rest shape is tried.
+RETURN_BELOW = 0.75
+#: The fit from the rest shape is taken when it fits better and brings this much more of
+#: the textured doll into view: the hidden part is back.
+RETURN_GAIN = 0.1
+#: Poorly fitting triangles are taken for a part folded away or covered when they make up
+#: at least this share of the triangles beyond some line across the doll -- the line that
+#: leaves all but :data:`ONE_SIDE_STRAY` of them beyond it.
+ONE_SIDE = 0.65
+ONE_SIDE_STRAY = 0.15
+
+
+class HiddenPart:
+    """The large part of one doll out of view in the last frame, if any.
+
+    Parameters
+    ----------
+    vertices : (m, 2) float64
+        The blob's rest nodes.
+    triangles : (t, 3) int
+    """
+
+    def __init__(self, vertices: np.ndarray, triangles: np.ndarray):
+        self.centroids = vertices[triangles].mean(axis=1)
+        #: (t,) bool: the triangles out of view in the last frame, when they were a large
+        #: part of the doll; None otherwise.
+        self.triangles = None
+
+    def forget(self) -> None:
+        self.triangles = None
+
+    def remember(self, share: float, visible) -> None:
+        """After a tracked frame: ``share`` of the textured doll in view, ``visible`` (t,)."""
+        if share < RETURN_BELOW and visible is not None:
+            self.triangles = ~np.asarray(visible, bool)
+        else:
+            self.triangles = None
+
+    def covered(self, quality) -> np.ndarray | None:
+        """The triangles to leave out in the *still hidden* fit of a frame (None: none).
+
+        The part out of view in the last frame; else the frame's poorly fitting triangles
+        (``Quality.poor``), when they are a large part of the doll and lie on one side.
+        """
+        if self.triangles is not None:
+            return self.triangles
+        if quality is None or quality.poor_share < 1.0 - RETURN_BELOW:
+            return None
+        return quality.poor if self.one_side(quality.poor) else None
+
+    def one_side(self, poor: np.ndarray) -> bool:
+        """The triangles ``poor`` (t,) bool lie beyond a line across the doll.
+
+        A fold, a turn or a hand from one side hides a part like that; a crumple the fit
+        cannot follow scatters poorly fitting triangles over the doll.
+        """
+        for angle in np.arange(8) * (np.pi / 4):
+            along = self.centroids @ np.array([np.cos(angle), np.sin(angle)])
+            beyond = along >= np.quantile(along[poor], ONE_SIDE_STRAY)
+            if np.count_nonzero(poor & beyond) >= ONE_SIDE * np.count_nonzero(beyond):
+                return True
+        return False
+
+
+def at_rest(a: np.ndarray, layout, frozen=frozenset()) -> np.ndarray:
+    """``a`` with the free modes at rest (the pose, lighting and frozen modes kept)."""
+    out = a.copy()
+    modes = [k for k in range(layout.size)[layout.modes] if k not in frozen]
+    out[modes] = 0.0
+    return out
+
+
+def returned(fit, back) -> bool:
+    """The fit from the rest shape (``back``) shows the hidden part back in view.
+
+    It explains the doll better than ``fit`` and brings at least :data:`RETURN_GAIN` more
+    of it into view.
+    """
+    if back.quality is None or fit.quality is None:
+        return back.quality is not None
+    gain = back.quality.share - fit.quality.share
+    return back.confidence > fit.confidence and gain >= RETURN_GAIN
