@@ -15,9 +15,13 @@ from .storage import is_blob, stored_blob
 OUTLINE_COLOUR = (1.0, 0.45, 0.1, 1.0)
 MESH_COLOUR = (1.0, 0.85, 0.2, 0.8)
 TRACK_COLOUR = (0.2, 1.0, 0.4, 0.9)
+#: The part of a tracked doll out of view (folded under, turned away, covered): faint.
+HIDDEN_COLOUR = (0.2, 1.0, 0.4, 0.3)
 LOST_COLOUR = (1.0, 0.2, 0.2, 0.9)
 
-#: What the recorder shows live: {"nodes": (m, 2), "triangles": (t, 3), "lost": bool}.
+#: What the recorder shows live: {"meshes": [(nodes (m, 2), triangles (t, 3), lost,
+#: visible (t,) bool or None), one per doll], ...}; or one doll's "nodes", "triangles",
+#: "lost".
 live_state: dict = {}
 _handle = None
 
@@ -33,8 +37,32 @@ def _draw_lines(coords, colour, shader):
     batch.draw(shader)
 
 
+def live_meshes(state: dict) -> list:
+    """The lines of the live state: (nodes (m, 2), edges (e, 2), colour) to draw.
+
+    Every doll's tracked mesh: the triangles in view in :data:`TRACK_COLOUR`, those out of
+    view faint (:data:`HIDDEN_COLOUR`), a lost doll's in :data:`LOST_COLOUR`.
+    """
+    meshes = state.get("meshes")
+    if not meshes:
+        meshes = [(state["nodes"], state["triangles"], state.get("lost", False), None)]
+    out = []
+    for nodes, triangles, lost, *rest in meshes:
+        tris = np.asarray(triangles)
+        visible = rest[0] if rest else None
+        if lost or visible is None or np.all(visible):
+            out.append((nodes, _edges(tris), LOST_COLOUR if lost else TRACK_COLOUR))
+            continue
+        seen = np.asarray(visible, bool)
+        if not seen.all():
+            out.append((nodes, _edges(tris[~seen]), HIDDEN_COLOUR))
+        if seen.any():
+            out.append((nodes, _edges(tris[seen]), TRACK_COLOUR))
+    return out
+
+
 def draw_overlay():
-    """The draw handler: outline, rest mesh (when not recording) and live tracked mesh."""
+    """The draw handler: outline, rest mesh (when not recording) and live tracked meshes."""
     context = bpy.context
     space = context.space_data
     scene = context.scene
@@ -52,20 +80,18 @@ def draw_overlay():
         reg = pixels_to_region(pts, height, v2r)
         seg = np.stack([reg, np.roll(reg, -1, axis=0)], axis=1).reshape(-1, 2)
         _draw_lines(seg, OUTLINE_COLOUR, shader)
-    mesh = None
+    lines = []
     if live_state:
-        colour = LOST_COLOUR if live_state.get("lost") else TRACK_COLOUR
-        mesh = (live_state["nodes"], live_state["triangles"], colour)
+        lines = live_meshes(live_state)
     elif is_blob(settings.blob):
         try:
             blob = stored_blob(settings.blob)
-            mesh = (blob.vertices, blob.triangles, MESH_COLOUR)
+            lines = [(blob.vertices, _edges(blob.triangles), MESH_COLOUR)]
         except Exception:  # noqa: BLE001 - drawing must never raise
-            mesh = None
-    if mesh is not None:
-        nodes, tris, colour = mesh
+            lines = []
+    for nodes, edges, colour in lines:
         reg = pixels_to_region(np.asarray(nodes), height, v2r)
-        _draw_lines(reg[_edges(np.asarray(tris)).ravel()], colour, shader)
+        _draw_lines(reg[edges.ravel()], colour, shader)
     gpu.state.blend_set("NONE")
     gpu.state.line_width_set(1.0)
 

@@ -226,8 +226,8 @@ class Recorder:
             nodes=first.nodes,
             triangles=self.blob.triangles,
             lost=first.lost,
-            meshes=[(results[d.name].nodes, d.blob.triangles, results[d.name].lost)
-                    for d in self.dolls],
+            meshes=[(results[d.name].nodes, d.blob.triangles, results[d.name].lost,
+                     results[d.name].visible) for d in self.dolls],
             rate=self.rate,
             latency=self.latency,
             behind=self.behind,

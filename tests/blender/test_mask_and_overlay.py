@@ -78,3 +78,35 @@ def test_overlay_coordinates(ctx, sub):
 def test_overlay_draw_handler_registered(addon, sub):
     drawing = sub("operators.drawing")
     assert drawing._handle is not None
+
+
+def test_live_overlay_draws_every_doll_and_fades_the_part_out_of_view(ctx, sub):
+    """While recording: each doll's mesh is drawn; a doll half out of view has its hidden
+    triangles faint and the rest bright; a lost doll is drawn in the lost colour."""
+    drawing = sub("operators.drawing")
+    nodes = np.array([[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0], [20.0, 5.0]])
+    tris = np.array([[0, 1, 2], [0, 2, 3], [1, 4, 2]])
+    half = np.array([True, True, False])
+    state = {
+        "meshes": [
+            (nodes, tris, False, half),
+            (nodes + 50, tris, False, np.ones(3, bool)),
+            (nodes + 100, tris, True, None),
+        ]
+    }
+    lines = drawing.live_meshes(state)
+    colours = [c for _, _, c in lines]
+    assert colours == [
+        drawing.HIDDEN_COLOUR,
+        drawing.TRACK_COLOUR,
+        drawing.TRACK_COLOUR,
+        drawing.LOST_COLOUR,
+    ]
+    hidden_edges = {tuple(e) for e in lines[0][1]}
+    seen_edges = {tuple(e) for e in lines[1][1]}
+    assert hidden_edges == {(1, 2), (1, 4), (2, 4)}  # the far triangle's edges
+    assert (1, 4) not in seen_edges and (0, 2) in seen_edges
+    assert lines[2][0][0, 0] == 50 and lines[3][0][0, 0] == 100
+    # One doll's state, as before several dolls.
+    one = drawing.live_meshes({"nodes": nodes, "triangles": tris, "lost": False})
+    assert [c for _, _, c in one] == [drawing.TRACK_COLOUR] and len(one[0][1]) == 7
