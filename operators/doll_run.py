@@ -11,6 +11,7 @@ import numpy as np
 
 from ..voodoo_addon.blob.outline import check_apart
 from ..voodoo_addon.errors import VoodooError
+from ..voodoo_addon.stream import view_share
 from ..voodoo_addon.takes.journal import SUFFIX, JournalWriter
 from ..voodoo_addon.takes.rig import Rig, fit_mapping, unit
 from ..voodoo_addon.takes.take import Take
@@ -179,6 +180,7 @@ class DollRun:
             values,
             res.confidence,
             res.lost,
+            view_share(res),
         )
 
     # ------------------------------------------------------------------ end

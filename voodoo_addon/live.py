@@ -16,7 +16,7 @@ import numpy as np
 
 from .media.prefetch import Prefetcher
 from .media.sources import FrameSource
-from .stream import OscSender
+from .stream import OscSender, view_share
 from .takes.rig import unit
 from .tracking import Tracker, TrackResult
 from .tracking.troupe import Troupe
@@ -129,6 +129,7 @@ def run_live(
                         mode_values(troupe.trackers[doll], res.params),
                         res.confidence,
                         res.lost,
+                        view_share(res),
                     )
             done = time.monotonic()
             stats.results.append((frame.index, frame.time, results))

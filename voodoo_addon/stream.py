@@ -14,6 +14,9 @@ address                         arguments       meaning
                                                 its shape-key value (in Blender times the
                                                 mode's gain, and only the modes that apply)
 ``/voodoo/<doll>/quality``      float, int      confidence in [0, 1], lost (1) or not (0)
+``/voodoo/<doll>/view``         float           share of the doll's mesh in view, in [0, 1]:
+                                                less while part of it is folded under,
+                                                turned away or covered; 0 when lost
 ==============================  ==============  =============================================
 
 ``<doll>`` and ``<mode>`` are the names with every character OSC reserves (space ``#*,/?[]{}``)
@@ -70,10 +73,12 @@ def frame_messages(
     modes: dict,
     confidence: float,
     lost: bool,
+    in_view: float | None = None,
 ) -> list:
     """The OSC messages of one frame (see the module's table), in that order.
 
-    ``pose`` (4,): translate-x, translate-y, rotate, log scale; ``modes``: name -> value.
+    ``pose`` (4,): translate-x, translate-y, rotate, log scale; ``modes``: name -> value;
+    ``in_view``: the share of the mesh in view (``/view`` is left out when None).
     """
     base = f"{ROOT}/{osc_name(doll)}"
 
@@ -89,7 +94,17 @@ def frame_messages(
     ]
     out += [message(f"{base}/mode/{osc_name(k)}", (float(v), "f")) for k, v in modes.items()]
     out.append(message(f"{base}/quality", (float(confidence), "f"), (int(bool(lost)), "i")))
+    if in_view is not None:
+        out.append(message(f"{base}/view", (float(in_view), "f")))
     return out
+
+
+def view_share(result) -> float:
+    """The share of a :class:`~voodoo_addon.tracking.TrackResult`'s triangles in view."""
+    visible = getattr(result, "visible", None)
+    if result.lost or visible is None or not len(visible):
+        return 0.0
+    return float(visible.mean())
 
 
 class OscSender:

@@ -23,7 +23,7 @@ def test_recording_streams_every_frame_as_the_take_has_it(
     stored = storage.stored_take(s.blob, s.last_take).take
     unit = sub("voodoo_addon.takes.rig").unit(storage.stored_blob(s.blob))
     osc_name = sub("voodoo_addon.stream").osc_name
-    per_frame = len(s.modes) - 1 + 3  # frame, pose, the modes that apply, quality
+    per_frame = len(s.modes) - 1 + 4  # frame, pose, the modes that apply, quality, view
     if not bundle:  # the same messages one datagram each: regroup them by frame
         assert len(rx.datagrams) == per_frame * len(stored)
         frames = [
@@ -42,6 +42,8 @@ def test_recording_streams_every_frame_as_the_take_has_it(
         want = 2.0 * stored.params[row, names.index(first.name)] / unit
         assert modes[osc_name(first.name)] == pytest.approx(want, rel=1e-5, abs=1e-6)
         assert got[f"{doll}/quality"][0] == pytest.approx(stored.confidence[row], rel=1e-5)
+        in_view = 0.0 if stored.lost[row] else stored.visible[row].mean()
+        assert got[f"{doll}/view"][0] == pytest.approx(in_view, rel=1e-5)
 
 
 @pytest.mark.parametrize("target", ["no port", "no-such-host.invalid:9000"])

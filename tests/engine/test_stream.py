@@ -57,11 +57,18 @@ def test_a_frame_arrives_with_the_documented_addresses(bundle, osc_receiver):
     rx = osc_receiver(5.0)
     with OscSender(f"127.0.0.1:{rx.port}", bundle=bundle) as tx:
         ok = tx.send(
-            "my doll", 7, 0.25, [1.5, -2.0, 0.1, 0.05], {"bend-x": 0.5, "twist 2": -1.0}, 0.9, False
+            "my doll",
+            7,
+            0.25,
+            [1.5, -2.0, 0.1, 0.05],
+            {"bend-x": 0.5, "twist 2": -1.0},
+            0.9,
+            False,
+            0.625,
         )
     rx.close()
     assert ok and tx.sent == 1 and not tx.warnings
-    assert len(rx.datagrams) == (1 if bundle else 5)
+    assert len(rx.datagrams) == (1 if bundle else 6)
     got = [m for d in rx.datagrams for m in rx.messages(d)]
     assert [a for a, _ in got] == [
         "/voodoo/my_doll/frame",
@@ -69,11 +76,13 @@ def test_a_frame_arrives_with_the_documented_addresses(bundle, osc_receiver):
         "/voodoo/my_doll/mode/bend-x",
         "/voodoo/my_doll/mode/twist_2",
         "/voodoo/my_doll/quality",
+        "/voodoo/my_doll/view",
     ]
     params = dict(got)
     assert params["/voodoo/my_doll/frame"] == [7, 0.25]
     np.testing.assert_allclose(params["/voodoo/my_doll/pose"], [1.5, -2.0, 0.1, 0.05], rtol=1e-6)
     assert params["/voodoo/my_doll/quality"][1] == 0
+    np.testing.assert_allclose(params["/voodoo/my_doll/view"], [0.625])
 
 
 def test_sending_errors_are_counted_and_said_once_never_raised(monkeypatch):
