@@ -159,3 +159,40 @@ def test_fold_clip_against_klt_and_dis(clip):
 
 def test_the_fold_clips_are_there():
     assert {c.name for c in FOLDS} >= {"fold_squeeze", "tail_turn", "sheet_foldover"}
+
+
+def test_a_poorly_fitting_part_counts_as_hidden_only_when_it_lies_on_one_side(foam):
+    """Beyond a line across the doll (a fold, a hand from one side): yes; scattered over it
+    (a crumple the fit cannot follow): no."""
+    from voodoo_addon.tracking.hidden import HiddenPart
+
+    _, _, blob = foam
+    part = HiddenPart(blob.vertices, blob.triangles)
+    centroids = blob.vertices[blob.triangles].mean(axis=1)
+    right = centroids[:, 0] > np.median(centroids[:, 0])
+    assert part.one_side(right)
+    assert part.one_side(centroids[:, 1] < np.quantile(centroids[:, 1], 0.4))
+    scattered = np.zeros(len(centroids), bool)
+    scattered[::2] = True
+    assert not part.one_side(scattered)
+
+
+def test_a_fit_that_leaps_away_must_be_as_sure_as_a_reacquisition(foam):
+    """Just above lost_below is enough near where the doll was, not 0.3 RMS radii away."""
+    from voodoo_addon.tracking.confidence import Quality
+    from voodoo_addon.tracking.fitter import Fit
+
+    _, rest, blob = foam
+    tracker = Tracker(blob)
+    tracker.track(rest)
+    opt = tracker.options
+    unsure = Quality(0.2, 0.2, 1.0, 1.0, in_view=0.2, share=1.0)
+    sure = Quality(0.5, 0.5, 1.0, 1.0, in_view=opt.reacquire_above + 0.05, share=1.0)
+    near, far = tracker.state.copy(), tracker.state.copy()
+    near[0] += 0.05 * blob.length
+    far[0] += 0.3 * blob.length
+    assert tracker._found(Fit(near, 0.2, 1, quality=unsure), unsure)
+    assert not tracker._found(Fit(far, 0.2, 1, quality=unsure), unsure)
+    assert tracker._found(Fit(far, 0.5, 1, quality=sure), sure)
+    lost = Quality(0.1, 0.1, 1.0, 1.0, in_view=opt.lost_below / 2, share=1.0)
+    assert not tracker._found(Fit(near, 0.1, 1, quality=lost), lost)
