@@ -167,40 +167,19 @@ def write_readme(out, clips=CLIPS):
         if clip.post is not None:
             renderer += f"; {clip.post_note} in post"
         rows.append(f"| `{clip.name}` | {clip.frames} | {clip.fps} | {clip.what} | {renderer} |")
+    shared = {
+        "blender": bpy.app.version_string,
+        "names": " ".join(c.name for c in clips),
+        "width": WIDTH,
+        "height": HEIGHT,
+        "noise": 100 * NOISE_SIGMA,
+        "rows": "\n".join(rows),
+    }
     if clips is FOLDS:
-        (out / "README.md").write_text(
-            README_FOLDS.format(
-                blender=bpy.app.version_string,
-                names=" ".join(c.name for c in clips),
-                width=WIDTH,
-                height=HEIGHT,
-                noise=100 * NOISE_SIGMA,
-                rows="\n".join(rows),
-                visibility=visibility_rows(out, clips),
-            )
-        )
-        return
-    if clips is MULTI:
-        (out / "README.md").write_text(
-            README_MULTI.format(
-                blender=bpy.app.version_string,
-                names=" ".join(c.name for c in clips),
-                width=WIDTH,
-                height=HEIGHT,
-                noise=100 * NOISE_SIGMA,
-                rows="\n".join(rows),
-            )
-        )
-        return
-    (out / "README.md").write_text(
-        README.format(
-            making=making.format(
-                blender=bpy.app.version_string, names=" ".join(c.name for c in clips)
-            ),
-            check_dir="" if clips is CLIPS else " --dir samples/heldout",
-            width=WIDTH,
-            height=HEIGHT,
-            noise=100 * NOISE_SIGMA,
-            rows="\n".join(rows),
-        )
-    )
+        text = README_FOLDS.format(**shared, visibility=visibility_rows(out, clips))
+    elif clips is MULTI:
+        text = README_MULTI.format(**shared)
+    else:
+        check_dir = "" if clips is CLIPS else " --dir samples/heldout"
+        text = README.format(**shared, making=making.format(**shared), check_dir=check_dir)
+    (out / "README.md").write_text(text)
