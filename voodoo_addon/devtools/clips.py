@@ -136,14 +136,14 @@ def read_clip(clip: Clip):
     return frames, load_contour_json(clip.outline), fps
 
 
-def track_ours(frames, blob, options=None):
+def track_ours(frames, blob, options=None, params=False):
     """Our tracker over the frames.
 
     Returns vertices (T, m, 2), lost (T,), the seconds of each frame after the first
-    (T - 1,) and the confidence (T,).
+    (T - 1,) and the confidence (T,); with ``params``, also the parameters (T, P).
     """
     tracker = Tracker(blob, options=options)
-    verts, lost, conf, times = [], [], [], []
+    verts, lost, conf, times, rows = [], [], [], [], []
     for i, frame in enumerate(frames):
         t0 = time.perf_counter()
         res = tracker.track(frame)
@@ -152,7 +152,9 @@ def track_ours(frames, blob, options=None):
         verts.append(res.nodes)
         lost.append(res.lost)
         conf.append(res.confidence)
-    return np.array(verts), np.array(lost), np.array(times), np.array(conf)
+        rows.append(res.params)
+    out = np.array(verts), np.array(lost), np.array(times), np.array(conf)
+    return (*out, np.array(rows)) if params else out
 
 
 def run_clip(clip: Clip, trackers=("ours", "klt", "dis"), options=None) -> list[dict]:

@@ -22,7 +22,6 @@ judged on what the issue asks of a fold:
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 
 import cv2
@@ -30,12 +29,11 @@ import numpy as np
 
 from ..blob.build import build_blob
 from ..media.images import to_float_rgb
-from ..tracking import Tracker
 from ..tracking.params import ParamLayout, similarity_from_matrix
 from ..tracking.proposals import PointFit
 from ..tracking.quality import score_track
 from .baselines import track_dis, track_klt
-from .clips import SAMPLES, Clip, LatticeTruth, read_clip, truth_errors
+from .clips import SAMPLES, Clip, LatticeTruth, read_clip, track_ours, truth_errors
 
 FOLDS = SAMPLES / "folds"
 #: The doll counts as in view while at least this share of its true lattice is seen.
@@ -113,26 +111,6 @@ def judge(frames, blob, truth: LatticeTruth, verts, lost) -> dict:
     }
 
 
-def track_with_modes(frames, blob, options=None):
-    """Our tracker over the frames, as :func:`.clips.track_ours` runs it.
-
-    Returns what that returns, and the mode amplitudes (T, k) of every frame.
-    """
-    tracker = Tracker(blob, options=options)
-    modes = tracker.layout.modes
-    verts, lost, conf, secs, amps = [], [], [], [], []
-    for i, frame in enumerate(frames):
-        t0 = time.perf_counter()
-        res = tracker.track(frame)
-        if i:
-            secs.append(time.perf_counter() - t0)
-        verts.append(res.nodes)
-        lost.append(res.lost)
-        conf.append(res.confidence)
-        amps.append(res.params[modes])
-    return np.array(verts), np.array(lost), np.array(secs), np.array(conf), np.array(amps)
-
-
 def mode_jumps(amps: np.ndarray, lost: np.ndarray) -> tuple[float, float]:
     """(largest, median) RMS change of the mode amplitudes between tracked frames."""
     keep = ~np.asarray(lost, bool)
@@ -170,12 +148,13 @@ def run_fold_clip(clip: Clip, trackers=("ours", "klt", "dis"), options=None) -> 
     for name in trackers:
         extra = {}
         if name == "ours":
-            verts, lost, secs, conf, amps = track_with_modes(frames, blob, options)
+            verts, lost, secs, conf, params = track_ours(frames, blob, options, params=True)
+            layout = ParamLayout(tuple(str(n) for n in blob.labels))
+            amps = params[:, layout.modes]
             extra["confidence"] = np.round(conf, 3).tolist()
             jump, typical = mode_jumps(amps, lost)
             extra["mode_jump_px"] = round(jump, 2)
             extra["mode_step_median_px"] = round(typical, 3)
-            layout = ParamLayout(tuple(str(n) for n in blob.labels))
             truth_jump = mode_jumps(true_modes(blob, truth, layout), np.zeros(len(truth), bool))
             extra["true_mode_jump_px"] = round(truth_jump[0], 2)
         elif name == "klt":
