@@ -2,13 +2,12 @@
 part still in view, is lost only when too little of it is, and the hidden part is found
 again when it comes back (tracking.evaluation, tracking.confidence, tracking.tracker)."""
 
-import cv2
 import numpy as np
 import pytest
 
 from voodoo_addon.blob.build import build_blob
 from voodoo_addon.devtools.folds import fold_clips, run_fold_clip
-from voodoo_addon.devtools.synthetic import Pose, foam_scene
+from voodoo_addon.devtools.synthetic import Pose, foam_scene, squash_right
 from voodoo_addon.tracking import Tracker
 from voodoo_addon.tracking.quality import folded_triangles
 
@@ -73,17 +72,7 @@ def test_a_doll_almost_all_covered_is_lost_then_found(foam):
 
 
 def _squash(scene, rest, amount):
-    """``rest`` with everything right of the doll's centre line pressed towards it by
-    ``amount``: the right half folding away, as a bend past 80 degrees shows it."""
-    c, r = scene.centre, scene.length
-    h, w = rest.shape[:2]
-    xs = np.arange(w, dtype=np.float32)
-    src = np.where(xs > c[0], c[0] + (xs - c[0]) / max(1.0 - amount, 1e-3), xs)
-    mx = np.tile(src, (h, 1)).astype(np.float32)
-    my = np.tile(np.arange(h, dtype=np.float32)[:, None], (1, w))
-    out = cv2.remap(rest, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
-    out[mx > c[0] + 3 * r] = rest[0, 0]
-    return out
+    return squash_right(rest, scene.centre, scene.length, amount)
 
 
 def test_a_folded_half_that_springs_back_at_once_is_found_again(foam):

@@ -11,7 +11,7 @@ import pytest
 from voodoo_addon.blob.build import build_blob
 from voodoo_addon.devtools.clips import clip_suite, ratios, run_clip
 from voodoo_addon.devtools.scenarios import scenario_take
-from voodoo_addon.devtools.synthetic import Pose, foam_scene
+from voodoo_addon.devtools.synthetic import Pose, foam_scene, squash_right
 from voodoo_addon.tracking import Tracker
 from voodoo_addon.tracking.quality import folded_triangles
 
@@ -86,18 +86,7 @@ def test_a_surface_turning_away_is_compressed_and_hidden_not_lost():
 
     def squash(amount):
         # x beyond the centre line is compressed towards it by (1 - amount).
-        frame = rest.copy()
-        h, w = frame.shape[:2]
-        xs = np.arange(w, dtype=np.float32)
-        src = np.where(xs > c[0], c[0] + (xs - c[0]) / max(1.0 - amount, 1e-3), xs)
-        mx = np.tile(src, (h, 1)).astype(np.float32)
-        my = np.tile(np.arange(h, dtype=np.float32)[:, None], (1, w))
-        import cv2
-
-        out = cv2.remap(rest, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
-        beyond = mx > c[0] + 3 * r
-        out[beyond] = rest[0, 0]
-        return out
+        return squash_right(rest, c, r, amount)
 
     amounts = list(np.linspace(0.0, 0.9, 10)) + list(np.linspace(0.9, 0.0, 10))
     results = [tracker.track(squash(a)) for a in amounts]

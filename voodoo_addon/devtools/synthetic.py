@@ -201,6 +201,23 @@ def _motion_blur(frame: np.ndarray, dx: float, dy: float) -> np.ndarray:
     return cv2.filter2D(frame, -1, kernel / kernel.sum(), borderType=cv2.BORDER_REFLECT)
 
 
+def squash_right(rest: np.ndarray, centre, length: float, amount: float) -> np.ndarray:
+    """``rest`` with its right half pressed towards the line x = ``centre[0]``.
+
+    By ``amount`` (0: unchanged, 0.9: to a tenth of its width): the right half folding
+    away, as a bend past 80 degrees shows it. What then lies beyond ``3 * length`` of the
+    line is the picture's top-left colour.
+    """
+    h, w = rest.shape[:2]
+    xs = np.arange(w, dtype=np.float32)
+    src = np.where(xs > centre[0], centre[0] + (xs - centre[0]) / max(1.0 - amount, 1e-3), xs)
+    mx = np.tile(src, (h, 1)).astype(np.float32)
+    my = np.tile(np.arange(h, dtype=np.float32)[:, None], (1, w))
+    out = cv2.remap(rest, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    out[mx > centre[0] + 3 * length] = rest[0, 0]
+    return out
+
+
 def ellipse_contour(centre, rx: float, ry: float, n: int = 64, angle: float = 0.0) -> np.ndarray:
     """Closed ellipse polygon (n, 2)."""
     t = np.linspace(0, 2 * np.pi, n, endpoint=False)
