@@ -101,10 +101,9 @@ def frame_messages(
 
 def view_share(result) -> float:
     """The share of a :class:`~voodoo_addon.tracking.TrackResult`'s triangles in view."""
-    visible = getattr(result, "visible", None)
-    if result.lost or visible is None or not len(visible):
+    if result.lost or result.visible is None or not len(result.visible):
         return 0.0
-    return float(visible.mean())
+    return float(result.visible.mean())
 
 
 class OscSender:
