@@ -132,18 +132,18 @@ def test_fold_clip_against_klt_and_dis(clip):
     the hidden part back under a pixel soon after it is open again.
 
     The issue asks for no lost frame and 10 frames. With NumPy 1.26 (Blender 5.0) the clips
-    give 0, 0, 0 lost frames and 6, 3, 7 frames; with NumPy 2.3 (Blender 5.2) the last bits
-    of the arithmetic differ and they give 1, 0, 1 and 12, 4, 8. The test holds the bounds
-    both meet; BENCHMARKS.md has the figures.
+    (fold_squeeze, sheet_foldover, tail_turn) give 0, 0, 0 lost frames and 6, 4, 7 frames;
+    with NumPy 2.3 (Blender 5.2) the last bits of the arithmetic differ and they give 0, 0, 1
+    and 6, 2, 4. The test holds the bounds both meet; BENCHMARKS.md has the figures.
     """
     rows = {r["tracker"]: r for r in run_fold_clip(clip)}
     ours = rows["ours"]
     brief = {k: v for k, v in ours.items() if not isinstance(v, list)}
     assert ours["folded_fraction"] == 0.0
     assert ours["error_px"] < min(rows["klt"]["error_px"], rows["dis"]["error_px"]), brief
-    assert ours["lost_in_third"] <= 2, brief
+    assert ours["lost_in_third"] <= 1, brief
     assert ours["opened_at"] is not None
-    assert ours["open_recovery_frames"] is not None and ours["open_recovery_frames"] <= 15
+    assert ours["open_recovery_frames"] is not None and ours["open_recovery_frames"] <= 10
 
 
 def test_the_fold_clips_are_there():
@@ -164,6 +164,24 @@ def test_a_poorly_fitting_part_counts_as_hidden_only_when_it_lies_on_one_side(fo
     scattered = np.zeros(len(centroids), bool)
     scattered[::2] = True
     assert not part.one_side(scattered)
+
+
+def test_the_fit_that_leaves_the_hidden_part_out_wins_on_the_part_in_view():
+    """Taken when it explains the part in view better and the whole doll nearly as well;
+    not when it only moves the doll's worst part out of view (no better where it looks)."""
+    from voodoo_addon.tracking.confidence import Quality
+    from voodoo_addon.tracking.fitter import Fit
+    from voodoo_addon.tracking.hidden import HELD_SLACK, still_hidden
+
+    def fit(whole, in_view, share):
+        q = Quality(whole, whole, 1.0, 1.0, in_view=in_view, share=share)
+        return Fit(np.zeros(4), whole, 1, quality=q)
+
+    squeezed = fit(0.377, 0.377, 0.97)  # the label squeezed into its front half
+    assert still_hidden(squeezed, fit(0.369, 0.46, 0.67))
+    assert not still_hidden(squeezed, fit(0.369, 0.37, 0.67))
+    assert not still_hidden(squeezed, fit(0.377 - 2 * HELD_SLACK, 0.6, 0.67))
+    assert still_hidden(squeezed, fit(0.40, 0.40, 0.67))
 
 
 def test_a_fit_that_leaps_away_must_be_as_sure_as_a_reacquisition(foam):

@@ -17,7 +17,7 @@ from ..errors import VoodooError
 from ..threads import single_blas_thread
 from .evaluation import Cover
 from .fitter import CoarseToFineFitter, Fit
-from .hidden import HiddenPart, at_rest, returned
+from .hidden import HiddenPart, at_rest, returned, still_hidden
 from .norms import LorentzianNorm, RobustNorm
 from .options import TrackerOptions
 from .params import ParamLayout
@@ -413,7 +413,7 @@ class Tracker:
         if fit.in_view < opt.propose_below and covered is not None:
             held = self._fit(frame, [fit.params], covered=covered)
             its += held.iterations
-            if held.confidence >= fit.confidence and held.in_view > fit.in_view:
+            if still_hidden(fit, held):
                 fit = held
         if self._hidden.triangles is not None and fit.confidence < opt.refine_below:
             back = self._fit(frame, [at_rest(fit.params, self.layout, self.frozen)])
