@@ -47,15 +47,13 @@ def live_meshes(state: dict) -> list:
     if not meshes:
         meshes = [(state["nodes"], state["triangles"], state.get("lost", False), None)]
     out = []
-    for nodes, triangles, lost, *rest in meshes:
+    for nodes, triangles, lost, visible in meshes:
         tris = np.asarray(triangles)
-        visible = rest[0] if rest else None
         if lost or visible is None or np.all(visible):
             out.append((nodes, _edges(tris), LOST_COLOUR if lost else TRACK_COLOUR))
             continue
         seen = np.asarray(visible, bool)
-        if not seen.all():
-            out.append((nodes, _edges(tris[~seen]), HIDDEN_COLOUR))
+        out.append((nodes, _edges(tris[~seen]), HIDDEN_COLOUR))
         if seen.any():
             out.append((nodes, _edges(tris[seen]), TRACK_COLOUR))
     return out

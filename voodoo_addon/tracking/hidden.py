@@ -19,6 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .creases import DIRECTIONS
+
 #: After a frame where less than this share of the textured doll was in view (folded
 #: under, turned away, covered), that part is remembered and the rest shape is tried.
 RETURN_BELOW = 0.75
@@ -79,7 +81,7 @@ class HiddenPart:
         A fold, a turn or a hand from one side hides a part like that; a crumple the fit
         cannot follow scatters poorly fitting triangles over the doll.
         """
-        for angle in np.arange(8) * (np.pi / 4):
+        for angle in DIRECTIONS:
             along = self.centroids @ np.array([np.cos(angle), np.sin(angle)])
             beyond = along >= np.quantile(along[poor], ONE_SIDE_STRAY)
             if np.count_nonzero(poor & beyond) >= ONE_SIDE * np.count_nonzero(beyond):
