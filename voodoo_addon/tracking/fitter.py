@@ -56,8 +56,6 @@ class Fit:
         The triangles the finest level compared (not off the picture, hidden or occluded).
     pictures : (FramePyramid, origin) or None
         The frame as the fit read it (for the local stage).
-    evaluation : Evaluation or None
-        The finest level's last comparison.
     covered : (t,) bool or None
         The triangles the fit was told to leave out as covered (None: it tested).
     """
@@ -70,7 +68,6 @@ class Fit:
     quality: Quality | None = None
     visible: np.ndarray | None = None
     pictures: tuple | None = None
-    evaluation: Evaluation | None = None
     covered: np.ndarray | None = None
 
     @property

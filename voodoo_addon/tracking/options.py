@@ -64,7 +64,7 @@ class TrackerOptions:
     adapt_below : float
         When a frame's confidence is below this, the next frame is compared with a mix of
         the template and this frame's look (the template's share is the confidence over
-        this, at least :data:`MIN_ANCHOR`); 0 turns it off.
+        this, at least :data:`~.local.MIN_ANCHOR`); 0 turns it off.
     features : bool
         Re-acquire a lost blob by matching SIFT features against the template.
     """

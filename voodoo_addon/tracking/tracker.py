@@ -18,23 +18,13 @@ from ..threads import single_blas_thread
 from .evaluation import Cover
 from .fitter import CoarseToFineFitter, Fit
 from .hidden import HiddenPart, at_rest, returned, still_hidden
+from .local import LocalStage
 from .norms import LorentzianNorm, RobustNorm
 from .options import TrackerOptions
 from .params import ParamLayout
 from .proposals import FeatureMatcher, MotionProposal
 from .warp import CpuWarp, WarpBackend
 
-#: No local stage in a frame where the doll moved more than this (pixels): such a frame is
-#: smeared by motion blur, which the nodes would bend to fit.
-REFINE_MOTION = 12.0
-#: The local stage's offsets are kept only when they raise the confidence by this much:
-#: small gains are mostly the nodes bending to fit noise or motion blur.
-REFINE_GAIN = 0.05
-#: When the fit (with the local stage) explains the doll less well than this, creases
-#: through it are tried (see :mod:`.creases`).
-CREASE_BELOW = 0.6
-#: A crease search that found nothing is not made again until the fit is worse by this.
-CREASE_DROP = 0.1
 #: Below this confidence a frame whose points were followed still looks for the template's
 #: features (SIFT, the costliest start); between it and ``propose_below`` the points' start
 #: is enough.
@@ -45,10 +35,6 @@ FUTILE_DROP = 0.02
 #: A fit below ``reacquire_above`` whose nodes moved more than this many RMS radii from the
 #: last frame's is taken for lost (see ``Tracker._found``).
 LEAP = 0.15
-#: The template's least share in the appearance a frame is compared with (see
-#: ``Tracker._adapt``): however far the surface's look has drifted, the first frame keeps
-#: this much say, so that errors cannot pile up unchecked.
-MIN_ANCHOR = 0.05
 
 
 @dataclass(frozen=True)
@@ -128,6 +114,7 @@ class Tracker:
         self._matcher = FeatureMatcher(blob, self.layout) if opt.features else None
         self._motion = MotionProposal(blob, self.layout)
         self._hidden = HiddenPart(blob.vertices, blob.triangles)
+        self._local = LocalStage(self.fitter, self.layout, opt)
         self.set_frozen(frozen)
         self.reset()
 
@@ -165,11 +152,8 @@ class Tracker:
         self.lost = False
         self._last_residual = None
         self._previous = None
-        self._offsets = None
-        self._template = None
         self._futile = np.inf
-        self._crease_futile = np.inf
-        self.fitter.creases.forget()
+        self._local.reset()
         self.fitter.set_base(None)
         self._hidden.forget()
 
@@ -208,7 +192,7 @@ class Tracker:
         need = opt.reacquire_above if was_lost else opt.lost_below
         # While a crease is followed, the modal fit starts from the creased shape.
         following = not was_lost and self.fitter.creases.line is not None
-        self.fitter.set_base(self._offsets if following else None)
+        self.fitter.set_base(self._local.offsets if following else None)
         if was_lost:
             seeds = [self.last_good, at_rest(self.last_good, self.layout, self.frozen)]
             fit = self._fit(frame, seeds, wide=True)
@@ -251,14 +235,14 @@ class Tracker:
             self._futile = np.inf  # fitting well again, or lost: features may help again
         # The local stage and creases run before the verdict: a doll folding faster than the
         # modes can bend is not lost when they explain it.
-        kept = self._offsets
+        kept = self._local.offsets
         refined = None
         if fit.quality is not None and (not was_lost or fit.in_view >= opt.lost_below):
-            refined = self._refine(fit)
+            refined = self._local.run(fit, self.state)
         if refined is not None and self._found(fit, refined[0]):
             quality, visible, ev = refined
             conf = quality.in_view
-            self._adapt(ev, fit.params, quality.value)
+            self._local.adapt(ev, fit.params, quality.value)
             a = fit.params
             self._last_residual = fit.residual
             self._prev = None if was_lost else self.state.copy()
@@ -268,18 +252,16 @@ class Tracker:
             params = a
             self._hidden.remember(quality.share, visible)
         else:
-            self._offsets = kept
-            self.fitter.creases.forget()
+            self._local.lose(kept)
             self.lost = True
             self.state = self.last_good.copy()
             self._prev = None
             params = self.last_good.copy()
             visible = None
-            self._template = None
             self._hidden.forget()
             warnings.append("The blob is lost: holding its last good pose.")
         self.fitter.set_base(None)
-        nodes = self.nodes(params, self._offsets)
+        nodes = self.nodes(params, self._local.offsets)
         self._previous = frame
         return TrackResult(
             params=params.copy(),
@@ -300,46 +282,6 @@ class Tracker:
         if self.lost or visible is None:
             return np.zeros(len(self.blob.triangles), bool)
         return np.array(visible, dtype=bool)
-
-    def _refine(self, fit: Fit):
-        """The local stage (node offsets) when the modal fit leaves much unexplained.
-
-        Returns the frame's (Quality, visible triangles, finest evaluation). The offsets
-        carry over to the next frame; after a good modal fit they are dropped (but for a
-        crease being followed, which the modal fit started from).
-        """
-        moved = np.linalg.norm(fit.params[:2] - self.state[:2])
-        if (
-            fit.confidence >= self.options.refine_below
-            or fit.pictures is None
-            or moved > REFINE_MOTION
-        ):
-            self._offsets = self._kept_base(fit.params)  # the crease followed, if any
-            return fit.quality, fit.visible, fit.evaluation
-        start = np.zeros_like(self.blob.vertices) if self._offsets is None else self._offsets
-        out = self.fitter.refine(fit, start, self._template)
-        if out is None or out[1].value < fit.confidence + REFINE_GAIN:
-            self._offsets = self._kept_base(fit.params)
-            quality, visible, ev = fit.quality, fit.visible, fit.evaluation
-        else:
-            self._offsets, quality, ev = out
-            visible = ev.triangle_weight > 0
-        creases = self.fitter.creases
-        if quality.value >= CREASE_BELOW:
-            creases.forget()
-            self._crease_futile = np.inf
-            return quality, visible, ev
-        if creases.line is None and quality.value >= self._crease_futile:
-            return quality, visible, ev
-        base = start if self._offsets is None else self._offsets
-        found = self.fitter.crease(fit, base, self._template)
-        if found is None or found[1].value < quality.value + REFINE_GAIN:
-            # No crease helps: none is looked for again until the fit gets worse.
-            self._crease_futile = quality.value - CREASE_DROP
-            creases.forget()
-            return quality, visible, ev
-        self._offsets, quality, ev, creases.line = found
-        return quality, ev.triangle_weight > 0, ev
 
     def _found(self, fit: Fit, refined) -> bool:
         """Whether this frame's fit finds the doll (else it is lost).
@@ -362,41 +304,9 @@ class Tracker:
         moved = self.fitter.nodes(fit.params, zero) - self.fitter.nodes(self.state, zero)
         return float(np.sqrt((moved**2).sum(axis=1).mean())) <= LEAP * self.blob.length
 
-    def _kept_base(self, a: np.ndarray) -> np.ndarray | None:
-        """The base offsets the fit started from, or None when there were none.
-
-        Pulled back as far as needed for no triangle to fold on the fitted modes.
-        """
-        base = self.fitter.base_offsets
-        if base is None:
-            return None
-        return self.fitter.guard.shape_step(self.fitter.refiner.bare(a), base) * base
-
-    def _adapt(self, ev, a, confidence: float) -> None:
-        """The appearance to compare the next frame with (see :data:`MIN_ANCHOR`).
-
-        The finest level's pixels as this frame showed them (its global lighting undone),
-        mixed with the template by how far this frame's fit fell short of it; pixels that
-        were not seen keep the template.
-        """
-        below = self.options.adapt_below
-        anchor = 1.0 if below <= 0 else min(1.0, confidence / below)
-        level = self.fitter.levels[0].level
-        if anchor >= 1.0 or ev is None:
-            self._template = None
-            return
-        anchor = max(anchor, MIN_ANCHOR)
-        seen = np.asarray(ev.samples, np.float64)
-        if self.layout.photometric != "none":
-            c, b = self.layout.channel_gain_offset(a)
-            seen = (seen - b) / c
-        t0 = level.template
-        mixed = np.where(ev.use[:, None], anchor * t0 + (1.0 - anchor) * seen, t0)
-        self._template = mixed.astype(np.float32)
-
     def _fit(self, frame, seeds, wide: bool = False, checked: bool = False, covered=None) -> Fit:
         anchor = None if self.lost else self.state
-        template = None if wide else self._template
+        template = None if wide else self._local.template
         return self.fitter.fit(
             frame, seeds, wide, self._last_residual, anchor, template, checked, covered
         )
