@@ -85,6 +85,26 @@ turn past edge-on and back, are likewise made only when named, into ``samples/fo
 ``sheet_foldover``
     The top 35 % of a printed sheet folds 180 degrees over the rest, towards the camera, and back.
 
+The held-out clips of folds (``hardclips/heldout_folds.py``) show the same kinds of motion with
+other paint (``heldout_textures.py``) and other motion, to check that the tracker, tuned on the
+clips of folds, generalises (never to tune it on). They too are made only when named, apart from
+every other clip, into ``samples/heldout_folds``::
+
+    .venv/bin/python scripts/render_hard_clips.py --out samples/heldout_folds --only pouch_crush \
+        plush_flip cloth_corner_fold
+
+``pouch_crush``
+    Two hands squeeze a printed snack pouch from the top and bottom: its top part folds back
+    behind the rest along a roughly horizontal crease in half a second, holds, unfolds, and the
+    hands leave.
+``plush_flip``
+    A furry, low-contrast grey and cream plush patch, held by its left end, turns away from the
+    camera about a vertical axis near its right end: its right part turns 35 degrees and its
+    left part on to 100 degrees, past edge-on, and back, while it drifts.
+``cloth_corner_fold``
+    The bottom right corner of a printed t-shirt cloth folds 180 degrees diagonally over the
+    rest, towards the camera, and back.
+
 Everything is seeded: the same command makes the same scenes, truth and outlines (Cycles runs
 seeded on one thread, so the renders should repeat too). All seven take about 50 minutes.
 
@@ -99,6 +119,7 @@ from pathlib import Path
 
 from hardclips.folds import FOLDS
 from hardclips.heldout import HELDOUT  # scripts/ is on sys.path; hardclips pins one core
+from hardclips.heldout_folds import HELDOUT_FOLDS
 from hardclips.make import make_clip, write_readme
 from hardclips.multi import MULTI
 from hardclips.scenarios import CLIPS
@@ -110,7 +131,7 @@ def parse_args(argv=None):
     parser.add_argument(
         "--only",
         nargs="+",
-        choices=[c.name for c in CLIPS + HELDOUT + MULTI + FOLDS],
+        choices=[c.name for c in CLIPS + HELDOUT + MULTI + FOLDS + HELDOUT_FOLDS],
         help="make only these clips (the held-out, several-doll and fold ones only so)",
     )
     parser.add_argument(
@@ -128,18 +149,20 @@ def main(argv=None):
     if args.only is None:
         clips = CLIPS  # never the held-out clips
     else:
-        clips = [c for c in CLIPS + HELDOUT + MULTI + FOLDS if c.name in args.only]
+        clips = [c for c in CLIPS + HELDOUT + MULTI + FOLDS + HELDOUT_FOLDS if c.name in args.only]
         if any(c in HELDOUT for c in clips) and any(c in CLIPS for c in clips):
             raise SystemExit("make the held-out clips apart from the others, in another folder")
         if any(c in MULTI for c in clips) and any(c not in MULTI for c in clips):
             raise SystemExit("make the clips of several dolls apart from the others")
         if any(c in FOLDS for c in clips) and any(c not in FOLDS for c in clips):
             raise SystemExit("make the clips of folds apart from the others")
+        if any(c in HELDOUT_FOLDS for c in clips) and any(c not in HELDOUT_FOLDS for c in clips):
+            raise SystemExit("make the held-out clips of folds apart from the others, elsewhere")
     total = 0.0
     for clip in clips:
         total += make_clip(clip, args.out, args.draft, args.truth_only)
     if not (args.draft or args.truth_only):
-        groups = (HELDOUT, MULTI, FOLDS)
+        groups = (HELDOUT, MULTI, FOLDS, HELDOUT_FOLDS)
         group = next((g for g in groups if clips[0] in g), CLIPS)
         write_readme(args.out, group)
     print(f"rendering took {total:.0f} s in all")

@@ -368,19 +368,8 @@ FOLDS = [
 ]
 
 
-README_FOLDS = """# Clips of folds
-
-Test clips of a sheet that folds in half or over itself, or turns edge-on, and back, so that
-much of it is hidden for a while. Rendered with Blender {blender} (the `bpy` module, headless) by
-[`scripts/render_hard_clips.py`](../../scripts/render_hard_clips.py) (scenes and the fur paint
-in `scripts/hardclips/folds.py`, other paint from `scripts/hard_textures.py`) from a fixed seed,
-so the same command makes the same scenes, truth and outlines; it makes them only when named:
-
-    .venv/bin/python scripts/render_hard_clips.py --out samples/folds --only {names}
-
-Check them with `.venv/bin/python scripts/check_hard_clips.py --dir samples/folds` (statistics,
-and contact sheets in `/tmp/hard_check/`).
-
+#: What a fold clip folder holds (the end of its README; shared with the held-out folds).
+FOLD_FILES = """\
 Each clip NAME has `NAME.mp4` (H.264, {width}x{height}, gaussian sensor noise of {noise:.1f} %
 added before encoding), `NAME.json` (the region outline on frame 0) and `NAME_truth.npz`
 (`lattice`, `visible`, `fps`), in the formats of the hard clips (see
@@ -402,6 +391,25 @@ How much of each sheet's lattice is visible (from `NAME_truth.npz`):
 | --- | ---: | --- | --- |
 {visibility}
 """
+
+
+README_FOLDS = (
+    """# Clips of folds
+
+Test clips of a sheet that folds in half or over itself, or turns edge-on, and back, so that
+much of it is hidden for a while. Rendered with Blender {blender} (the `bpy` module, headless) by
+[`scripts/render_hard_clips.py`](../../scripts/render_hard_clips.py) (scenes and the fur paint
+in `scripts/hardclips/folds.py`, other paint from `scripts/hard_textures.py`) from a fixed seed,
+so the same command makes the same scenes, truth and outlines; it makes them only when named:
+
+    .venv/bin/python scripts/render_hard_clips.py --out samples/folds --only {names}
+
+Check them with `.venv/bin/python scripts/check_hard_clips.py --dir samples/folds` (statistics,
+and contact sheets in `/tmp/hard_check/`).
+
+"""
+    + FOLD_FILES
+)
 
 
 def frame_spans(frames):

@@ -15,6 +15,7 @@ import numpy as np
 
 from hardclips.folds import FOLDS, README_FOLDS, visibility_rows
 from hardclips.heldout import HELDOUT
+from hardclips.heldout_folds import HELDOUT_FOLDS, README_HELDOUT_FOLDS
 from hardclips.multi import MULTI
 from hardclips.scenarios import CLIPS
 from hardclips.scene import HEIGHT, SEED, WIDTH, new_scene
@@ -26,8 +27,10 @@ def clip_number(clip):
     """The clip's number, which seeds its scene.
 
     Its place in ``CLIPS``; held-out clips: 100 + in ``HELDOUT``; several dolls: 200 + in ``MULTI``;
-    folds: 300 + in ``FOLDS``.
+    folds: 300 + in ``FOLDS``; held-out folds: 400 + in ``HELDOUT_FOLDS``.
     """
+    if clip in HELDOUT_FOLDS:
+        return 400 + HELDOUT_FOLDS.index(clip)
     if clip in FOLDS:
         return 300 + FOLDS.index(clip)
     if clip in MULTI:
@@ -156,7 +159,7 @@ the perspective camera, apart from the others and at rest for three frames.
 def write_readme(out, clips=CLIPS):
     """``out``/README.md: how the clips were made, what they hold, one row per clip.
 
-    ``clips`` is ``CLIPS``, ``HELDOUT``, ``MULTI`` or ``FOLDS``.
+    ``clips`` is ``CLIPS``, ``HELDOUT``, ``MULTI``, ``FOLDS`` or ``HELDOUT_FOLDS``.
     """
     making = MAKING if clips is CLIPS else MAKING_HELDOUT
     rows = []
@@ -177,6 +180,8 @@ def write_readme(out, clips=CLIPS):
     }
     if clips is FOLDS:
         text = README_FOLDS.format(**shared, visibility=visibility_rows(out, clips))
+    elif clips is HELDOUT_FOLDS:
+        text = README_HELDOUT_FOLDS.format(**shared, visibility=visibility_rows(out, clips))
     elif clips is MULTI:
         text = README_MULTI.format(**shared)
     else:

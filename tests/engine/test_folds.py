@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from voodoo_addon.blob.build import build_blob
-from voodoo_addon.devtools.folds import fold_clips, run_fold_clip
+from voodoo_addon.devtools.folds import HELDOUT_FOLDS, fold_clips, run_fold_clip
 from voodoo_addon.devtools.synthetic import Pose, foam_scene, squash_right
 from voodoo_addon.tracking import Tracker
 from voodoo_addon.tracking.quality import folded_triangles
@@ -122,10 +122,11 @@ def test_a_crease_search_presses_the_far_side_of_a_fold(foam, amount):
 
 
 FOLDS = fold_clips()
+HELD_OUT = fold_clips(HELDOUT_FOLDS)
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("clip", FOLDS, ids=[c.name for c in FOLDS])
+@pytest.mark.parametrize("clip", FOLDS + HELD_OUT, ids=[c.name for c in FOLDS + HELD_OUT])
 def test_fold_clip_against_klt_and_dis(clip):
     """On the renders of folds: no folded frame, a smaller node error on the seen nodes
     than KLT's and DIS's, (almost) no frame lost while a third of the doll is in view, and
@@ -134,7 +135,9 @@ def test_fold_clip_against_klt_and_dis(clip):
     The issue asks for no lost frame and 10 frames. With NumPy 1.26 (Blender 5.0) the clips
     (fold_squeeze, sheet_foldover, tail_turn) give 0, 0, 0 lost frames and 6, 4, 7 frames;
     with NumPy 2.3 (Blender 5.2) the last bits of the arithmetic differ and they give 0, 0, 1
-    and 6, 2, 4. The test holds the bounds both meet; BENCHMARKS.md has the figures.
+    and 6, 2, 4. The test holds the bounds both meet; BENCHMARKS.md has the figures. The
+    held-out clips (cloth_corner_fold, plush_flip, pouch_crush; never tuned on) give 0 lost
+    frames and 3, 0, 4 frames (NumPy 2.3: 3, 0, 3) and are held to the same bounds.
     """
     rows = {r["tracker"]: r for r in run_fold_clip(clip)}
     ours = rows["ours"]
@@ -148,6 +151,7 @@ def test_fold_clip_against_klt_and_dis(clip):
 
 def test_the_fold_clips_are_there():
     assert {c.name for c in FOLDS} >= {"fold_squeeze", "tail_turn", "sheet_foldover"}
+    assert {c.name for c in HELD_OUT} >= {"pouch_crush", "plush_flip", "cloth_corner_fold"}
 
 
 def test_a_poorly_fitting_part_counts_as_hidden_only_when_it_lies_on_one_side(foam):

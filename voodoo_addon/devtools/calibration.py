@@ -70,9 +70,9 @@ def calibration_table(clips=None) -> list[dict]:
     """Confidence per true-error bin over the rendered clips."""
     pairs = []
     if clips is None:
-        from .folds import fold_clips
+        from .folds import fold_suite
 
-        clips = clip_suite() + fold_clips()
+        clips = clip_suite() + fold_suite()
     for clip in clips:
         if clip.truth is not None:
             pairs += samples(clip)

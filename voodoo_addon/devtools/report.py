@@ -16,10 +16,10 @@ Parts (``--only`` picks some):
     Several dolls in one take (``samples/multi``): each doll's accuracy beside KLT and DIS,
     and the time per frame of the dolls together against each alone (:mod:`.dolls`).
 ``folds``
-    Renders of folds and turns (``samples/folds``): a doll partly hidden by itself, judged on
-    the part in view beside KLT and DIS -- node error of the seen nodes, folded frames,
-    frames lost while a third is in view, frames to sub-pixel after the hidden part is back
-    (:mod:`.folds`).
+    Renders of folds and turns (``samples/folds``, and the held-out ``samples/heldout_folds``):
+    a doll partly hidden by itself, judged on the part in view beside KLT and DIS -- node
+    error of the seen nodes, folded frames, frames lost while a third is in view, frames to
+    sub-pixel after the hidden part is back (:mod:`.folds`).
 ``osc``
     Latency of the OSC stream on loopback, from a frame being there to its bundle received
     (:mod:`.osclatency`).
