@@ -261,28 +261,48 @@ def build_fold_squeeze(rng, clip):
     return finish_sheet(sheet)
 
 
+def plush_on_pivot(rng, paint, size, grid, pivot_x, sheen):
+    """A furry sheet hung on an empty (``Pivot``) at x = ``pivot_x``, to be turned about it.
+
+    ``sheen`` is (weight, roughness, RGBA tint): velvety at grazing angles. Returns (the
+    sheet, the pivot).
+    """
+    sheet = add_sheet(paint, size, grid, 4, rng=rng, roughness=0.95, specular=0.15, thickness=0.06)
+    material = sheet.obj.data.materials[0]
+    bsdf = material.node_tree.nodes["Principled BSDF"]
+    weight, roughness, tint = sheen
+    bsdf.inputs["Sheen Weight"].default_value = weight
+    bsdf.inputs["Sheen Roughness"].default_value = roughness
+    bsdf.inputs["Sheen Tint"].default_value = tint
+    pivot = bpy.data.objects.new("Pivot", None)
+    pivot.location = (pivot_x, 0.0, 0.0)
+    bpy.context.scene.collection.objects.link(pivot)
+    sheet.obj.parent = pivot
+    sheet.obj.location = (-pivot_x, 0.0, 0.0)
+    return sheet, pivot
+
+
+def set_back_colour(sheet, colour):
+    """Give the finished ``sheet``'s unpainted back and rim ``colour`` (linear RGBA)."""
+    material = sheet.obj.data.materials[0]
+    mix = next(n for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeMix")
+    {i.identifier: i for i in mix.inputs}["B_Color"].default_value = colour
+    rim = sheet.obj.data.materials[1].node_tree.nodes["Principled BSDF"]
+    rim.inputs["Base Color"].default_value = colour
+
+
 TAIL_CREASE = -0.2  # tail_turn: where the tail's bend starts, from the sheet's centre
 
 
 def build_tail_turn(rng, clip):
     studio_lights()
     size = (2.1, 1.4)
-    sheet = add_sheet(
-        fur, size, (84, 56), 4, rng=rng, roughness=0.95, specular=0.15, thickness=0.06
-    )
-    material = sheet.obj.data.materials[0]
-    bsdf = material.node_tree.nodes["Principled BSDF"]
-    bsdf.inputs["Sheen Weight"].default_value = 0.4  # velvety at grazing angles
-    bsdf.inputs["Sheen Roughness"].default_value = 0.5
-    bsdf.inputs["Sheen Tint"].default_value = (0.85, 0.7, 0.55, 1.0)
     # The pivot: the body's end (the sheet's left edge), which stays on the table; the whole
     # toy turns about a vertical axis through it, its right end (the tail) rising towards the
     # camera.
-    pivot = bpy.data.objects.new("Pivot", None)
-    pivot.location = (-size[0] / 2, 0.0, 0.0)
-    bpy.context.scene.collection.objects.link(pivot)
-    sheet.obj.parent = pivot
-    sheet.obj.location = (size[0] / 2, 0.0, 0.0)
+    sheet, pivot = plush_on_pivot(
+        rng, fur, size, (84, 56), -size[0] / 2, (0.4, 0.5, (0.85, 0.7, 0.55, 1.0))
+    )
     # The soft toy gives where it is held: the tail (the right part, from TAIL_CREASE on) bends
     # further towards the camera over a band of 0.4, so that the body turns 40 deg and the tail
     # 95 deg, past edge-on (its painted side turned away).
@@ -302,10 +322,7 @@ def build_tail_turn(rng, clip):
     )
     # Its back and rim: plain felt, a darker brown than the fur (not the foam's cream).
     finish_sheet(sheet)
-    mix = next(n for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeMix")
-    {i.identifier: i for i in mix.inputs}["B_Color"].default_value = FELT_COLOUR
-    rim = sheet.obj.data.materials[1].node_tree.nodes["Principled BSDF"]
-    rim.inputs["Base Color"].default_value = FELT_COLOUR
+    set_back_colour(sheet, FELT_COLOUR)
     return sheet
 
 

@@ -39,7 +39,7 @@ passes through the rest.
 
 import math
 
-import bpy
+import bpy  # noqa: F401 - first: mathutils comes with it
 
 # isort: split
 import cv2
@@ -56,6 +56,8 @@ from hardclips.folds import (
     fold_limits,
     hair_streaks,
     paced_fold,
+    plush_on_pivot,
+    set_back_colour,
 )
 from hardclips.materials import studio_lights
 from hardclips.scene import Clip
@@ -75,15 +77,6 @@ from hardclips.video import srgb_to_linear
 BEND_LEFT_AWAY = Matrix(((-1, 0, 0), (0, 0, -1), (0, -1, 0))).to_euler()
 HAND_DEPTH = 0.32  # the hands' height above the sheet: in front of it, clear of its bow
 GREY_FELT = (0.16, 0.155, 0.15, 1.0)  # plush_flip's back and rim (linear RGB)
-
-
-def set_back_colour(sheet, colour):
-    """Give the finished ``sheet``'s unpainted back and rim ``colour`` (linear RGBA)."""
-    material = sheet.obj.data.materials[0]
-    mix = next(n for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeMix")
-    {i.identifier: i for i in mix.inputs}["B_Color"].default_value = colour
-    rim = sheet.obj.data.materials[1].node_tree.nodes["Principled BSDF"]
-    rim.inputs["Base Color"].default_value = colour
 
 
 def diagonal_towards_camera(angle):
@@ -219,21 +212,11 @@ PLUSH_CREASE = 0.2  # where the bend of the held part starts, from the sheet's c
 def build_plush_flip(rng, clip):
     studio_lights()
     size = (2.2, 1.3)
-    sheet = add_sheet(
-        plush, size, (88, 52), 4, rng=rng, roughness=0.95, specular=0.15, thickness=0.06
-    )
-    material = sheet.obj.data.materials[0]
-    bsdf = material.node_tree.nodes["Principled BSDF"]
-    bsdf.inputs["Sheen Weight"].default_value = 0.45  # velvety at grazing angles
-    bsdf.inputs["Sheen Roughness"].default_value = 0.4
-    bsdf.inputs["Sheen Tint"].default_value = (0.8, 0.8, 0.82, 1.0)
     # The pivot: a vertical axis near the right end; the patch turns about it, its left end
     # (where it is held) going away from the camera, while the pivot drifts left and down.
-    pivot = bpy.data.objects.new("Pivot", None)
-    pivot.location = (PLUSH_PIVOT, 0.0, 0.0)
-    bpy.context.scene.collection.objects.link(pivot)
-    sheet.obj.parent = pivot
-    sheet.obj.location = (-PLUSH_PIVOT, 0.0, 0.0)
+    sheet, pivot = plush_on_pivot(
+        rng, plush, size, (88, 52), PLUSH_PIVOT, (0.45, 0.4, (0.8, 0.8, 0.82, 1.0))
+    )
     # The soft plush gives where it is held: the part left of PLUSH_CREASE bends further away
     # over a band of 0.35, so that the right part turns 35 deg and the left part 100 deg.
     origin = deform_origin(sheet, (PLUSH_CREASE, 0.0, 0.0), BEND_LEFT_AWAY)

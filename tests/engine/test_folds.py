@@ -71,10 +71,6 @@ def test_a_doll_almost_all_covered_is_lost_then_found(foam):
     assert not results[-1].lost and results[-1].confidence > 0.9
 
 
-def _squash(scene, rest, amount):
-    return squash_right(rest, scene.centre, scene.length, amount)
-
-
 def test_a_folded_half_that_springs_back_at_once_is_found_again(foam):
     """The right half folds away to a sliver and stays hidden; then, in one frame, the doll
     is flat again. The hidden half is not left where it was last seen: the fit from the
@@ -83,7 +79,7 @@ def test_a_folded_half_that_springs_back_at_once_is_found_again(foam):
     tracker = Tracker(blob)
     amounts = list(np.linspace(0.0, 0.95, 8)) + [0.95] * 6
     for a in amounts:
-        res = tracker.track(_squash(scene, rest, a))
+        res = tracker.track(squash_right(rest, scene.centre, scene.length, a))
         assert not res.lost
         assert not folded_triangles(res.nodes, blob.vertices, blob.triangles).any()
     assert res.visible.mean() < 0.8  # the folded half is out of view
@@ -99,7 +95,7 @@ def test_a_crease_search_presses_the_far_side_of_a_fold(foam, amount):
     folding nothing."""
     scene, rest, blob = foam
     tracker = Tracker(blob)
-    frame = _squash(scene, rest, amount)
+    frame = squash_right(rest, scene.centre, scene.length, amount)
     true = blob.vertices.copy()
     right = true[:, 0] > scene.centre[0]
     true[right, 0] = scene.centre[0] + (true[right, 0] - scene.centre[0]) * (1 - amount)

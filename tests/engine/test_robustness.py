@@ -84,12 +84,9 @@ def test_a_surface_turning_away_is_compressed_and_hidden_not_lost():
     tracker = Tracker(blob)
     c, r = scene.centre, scene.length
 
-    def squash(amount):
-        # x beyond the centre line is compressed towards it by (1 - amount).
-        return squash_right(rest, c, r, amount)
-
     amounts = list(np.linspace(0.0, 0.9, 10)) + list(np.linspace(0.9, 0.0, 10))
-    results = [tracker.track(squash(a)) for a in amounts]
+    # x beyond the centre line is compressed towards it by (1 - amount).
+    results = [tracker.track(squash_right(rest, c, r, a)) for a in amounts]
     for a, res in zip(amounts, results, strict=True):
         assert not res.lost, f"lost at squash {a:.2f}"
         assert not folded_triangles(res.nodes, blob.vertices, blob.triangles).any()

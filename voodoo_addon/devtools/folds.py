@@ -175,7 +175,12 @@ def run_fold_clip(clip: Clip, trackers=("ours", "klt", "dis"), options=None) -> 
             verts, lost, secs = track_klt(frames, blob.vertices)
         else:
             verts, lost, secs = track_dis(frames, blob.vertices)
-        row = {"clip": clip.name, "tracker": name, "frames": len(frames)}
+        row = {
+            "clip": clip.name,
+            "held_out": held_out(clip),
+            "tracker": name,
+            "frames": len(frames),
+        }
         row.update(judge(frames, blob, truth, verts, lost), **extra)
         row["median_ms"] = round(1000.0 * float(np.median(secs)), 2)
         rows.append(row)
@@ -187,10 +192,7 @@ def run_folds() -> list[dict]:
     rows = []
     for clip in fold_suite():
         got = run_fold_clip(clip)
-        rows += [
-            {k: v for k, v in r.items() if not isinstance(v, list)} | {"held_out": held_out(clip)}
-            for r in got
-        ]
+        rows += [{k: v for k, v in r.items() if not isinstance(v, list)} for r in got]
     return rows
 
 
@@ -206,7 +208,7 @@ def format_folds(rows: list[dict]) -> str:
     for r in rows:
         back, rec = _recovery(r["returned_at"], r["recovery_frames"])
         opened, open_rec = _recovery(r["opened_at"], r["open_recovery_frames"])
-        name = f"{r['clip']} (held out)" if r.get("held_out") else r["clip"]
+        name = f"{r['clip']} (held out)" if r["held_out"] else r["clip"]
         jump = "—"
         if "mode_jump_px" in r:
             jump = (
@@ -248,7 +250,7 @@ def main(argv=None) -> int:
     for clip in fold_clips(args.root) if args.root else fold_suite():
         if args.only and clip.name not in args.only:
             continue
-        rows += [r | {"held_out": held_out(clip)} for r in run_fold_clip(clip, args.trackers)]
+        rows += run_fold_clip(clip, args.trackers)
     if args.json:
         Path(args.json).write_text(json.dumps(rows))
     print(format_folds(rows))
