@@ -387,3 +387,42 @@ def test_a_futile_feature_search_is_not_repeated_until_the_fit_worsens(monkeypat
     res = tracker.track(noisy.astype(np.float32))  # the same pose, a much worse fit
     assert not res.lost
     assert matcher.calls == before + 1
+
+
+def test_a_poor_fit_against_the_adapted_look_is_made_again_against_the_template(monkeypatch):
+    """The look adapted on the last frame carries that frame's misfit (what lay behind a part
+    the mesh trailed). When the fit against it is too poor to trust, the tracker fits again
+    against the blob's own template, and keeps the doll where it is."""
+    take = scenario("translate")
+    last = len(take.frames) - 1
+    # On this clean take a look 10 px behind still fits fairly (the coarse levels compare
+    # with the template): "too poor to trust" is raised to match.
+    tracker = Tracker(take.blob, options=TrackerOptions(reacquire_above=0.95))
+    for frame in take.frames[:last]:
+        tracker.track(frame)
+    # The look as a fit trailing the doll by 10 px would have seen it: the frame sampled
+    # where the template's pixels would be, 10 px behind.
+    level = tracker.fitter.levels[0].level
+    behind = tracker.state.copy()
+    behind[0] -= 10.0
+    x, y = level.positions(behind)[:, : len(level), None]
+    picture = cv2.resize(take.frames[last - 1], None, fx=level.scale, fy=level.scale)
+    look = cv2.remap(picture, x, y, cv2.INTER_LINEAR).reshape(-1, 3)
+    tracker._local.template = np.ascontiguousarray(look, np.float32)
+    looks = []
+    fit = tracker._fit
+
+    def recording_fit(*args, **kwargs):
+        out = fit(*args, **kwargs)
+        looks.append((kwargs.get("adapted", True), out.confidence))
+        return out
+
+    monkeypatch.setattr(tracker, "_fit", recording_fit)
+    res = tracker.track(take.frames[last])
+    adapted, poor = looks[0]
+    assert adapted and poor < tracker.options.reacquire_above
+    own = [conf for adapted, conf in looks if not adapted]
+    assert own and own[0] > 0.9  # the blob's own template fits this frame well
+    assert not res.lost and res.confidence > 0.9
+    error = np.linalg.norm(res.nodes - take.truth(last, take.blob.vertices), axis=1).mean()
+    assert error < MAX_FRAME_ERROR

@@ -201,6 +201,17 @@ class Tracker:
             seeds = [pred] if np.array_equal(pred, self.state) else [pred, self.state]
             fit = self._fit(frame, seeds, wide=False, checked=True)
         its = fit.iterations
+        # The look adapted on the last frame carries that frame's misfit: a part the fit
+        # trailed (a tail turning away faster than the mesh followed) was mixed in with what
+        # lay behind it, and that can pull the next fit off the doll. A fit too poor to be
+        # trusted where it lands is made once more against the blob's own template.
+        if (
+            not was_lost
+            and fit.confidence < opt.reacquire_above
+            and self._local.template is not None
+        ):
+            own = self._fit(frame, seeds, checked=True, adapted=False)
+            fit, its = self._better(fit, own, its)
         # The prediction fits badly: where textured points went since the last frame; then,
         # if no points could be followed or the fit is still poor, where the template's
         # features are in this one (the costliest start: a merely mediocre fit, as on a
@@ -304,9 +315,10 @@ class Tracker:
         moved = self.fitter.nodes(fit.params, zero) - self.fitter.nodes(self.state, zero)
         return float(np.sqrt((moved**2).sum(axis=1).mean())) <= LEAP * self.blob.length
 
-    def _fit(self, frame, seeds, wide: bool = False, checked: bool = False, covered=None) -> Fit:
+    def _fit(self, frame, seeds, wide=False, checked=False, covered=None, adapted=True) -> Fit:
+        """The fitter's fit; ``adapted``: against the look adapted on the last frame."""
         anchor = None if self.lost else self.state
-        template = None if wide else self._local.template
+        template = self._local.template if adapted and not wide else None
         return self.fitter.fit(
             frame, seeds, wide, self._last_residual, anchor, template, checked, covered
         )
