@@ -426,3 +426,33 @@ def test_a_poor_fit_against_the_adapted_look_is_made_again_against_the_template(
     assert not res.lost and res.confidence > 0.9
     error = np.linalg.norm(res.nodes - take.truth(last, take.blob.vertices), axis=1).mean()
     assert error < MAX_FRAME_ERROR
+
+
+def test_a_frames_fits_from_one_region_share_its_pyramid():
+    """A second fit of the same frame from the same region reuses the frame's pyramid; a new
+    frame gets its own."""
+    take = scenario("translate")
+    tracker = Tracker(take.blob)
+    fitter = tracker.fitter
+    frame = take.frames[1]
+    first, origin = fitter.pyramid(frame, [tracker.state], False)
+    again, same_origin = fitter.pyramid(frame, [tracker.state], False)
+    assert again is first
+    np.testing.assert_array_equal(same_origin, origin)
+    elsewhere, _ = fitter.pyramid(frame, [tracker.state], True)
+    assert elsewhere is not first
+    other, _ = fitter.pyramid(take.frames[2].copy(), [tracker.state], False)
+    assert other is not first
+
+
+def test_a_camera_buffer_refilled_with_the_next_frame_is_not_read_stale():
+    """A camera may hand over the same array with new pixels each frame: the pyramid kept
+    from the last frame must not be reused for it."""
+    take = scenario("mixed")
+    fresh, reused = Tracker(take.blob), Tracker(take.blob)
+    buffer = np.empty_like(take.frames[0])
+    for frame in take.frames[:8]:
+        buffer[...] = frame
+        a = fresh.track(frame.copy())
+        b = reused.track(buffer)
+        np.testing.assert_array_equal(b.nodes, a.nodes)

@@ -9,7 +9,6 @@ tracker's business).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -22,13 +21,10 @@ from .folding import FoldGuard
 from .level import Level
 from .norms import RobustNorm
 from .params import ParamLayout, node_positions
-from .pictures import FramePyramid
+from .pictures import FramePictures, base_level
 from .refine import LocalRefiner
 from .warp import WarpBackend
 
-#: A blob is tracked on the finest pyramid level where it keeps fewer than this many times
-#: the pixel budget (see :func:`base_level`).
-BASE_FACTOR = 2.0
 #: Coarse grid search around each seed pose, coarsest-level pixels.
 SEARCH_RADIUS = 6
 SEARCH_STEP = 3
@@ -129,6 +125,7 @@ class CoarseToFineFitter:
             for lv in levels
         ]
         self._base = None
+        self.pictures = FramePictures(blob.blur_sigma, self.base, len(self.levels))
         self.frozen: frozenset = frozenset()
         self._active: dict = {}
         self._anchor = None
@@ -224,25 +221,14 @@ class CoarseToFineFitter:
 
         Returns (FramePyramid, origin (2,) float64) or None when the region is empty.
         """
-        h, w = frame.shape[:2]
-        align = 2 ** (self.base + len(self.levels) - 1)
         if wide:
-            x0 = y0 = 0
-            x1, y1 = w, h
-        else:
-            nodes = np.vstack([self.nodes(a) for a in poses] + ([] if nodes is None else [nodes]))
-            if not np.isfinite(nodes).all():
-                return None
-            (lx, ly), (hx, hy) = nodes.min(axis=0).tolist(), nodes.max(axis=0).tolist()
-            margin = max(0.15 * max(hx - lx, hy - ly), 8.0 * align)
-            x0 = min(max(math.floor((lx - margin) / align) * align, 0), w)
-            y0 = min(max(math.floor((ly - margin) / align) * align, 0), h)
-            x1 = min(max(math.ceil(hx + margin) + 1, 0), w)
-            y1 = min(max(math.ceil(hy + margin) + 1, 0), h)
-            if x1 - x0 < 8 or y1 - y0 < 8:
-                return None
-        pyr = FramePyramid(frame[y0:y1, x0:x1], self.blob.blur_sigma, self.base)
-        return pyr, np.array([x0, y0], float)
+            return self.pictures.whole(frame)
+        nodes = np.vstack([self.nodes(a) for a in poses] + ([] if nodes is None else [nodes]))
+        return self.pictures.around(frame, nodes)
+
+    def forget_pictures(self) -> None:
+        """Drop the pyramids kept for the last frame (see :class:`FramePictures`)."""
+        self.pictures.forget()
 
     # ------------------------------------------------------------------ fitting
 
@@ -401,21 +387,6 @@ class CoarseToFineFitter:
             return False
         amp = a[self.layout.modes]
         return bool(np.all(np.abs(amp) < 0.6 * self.blob.length))
-
-
-def base_level(n_pixels: int, budget: int | None) -> int:
-    """The finest pyramid level worth tracking a blob of ``n_pixels`` on.
-
-    A blob much bigger than the pixel budget is subsampled anyway, so reading, blurring and
-    sampling the frame at full resolution buys nothing: track it on the level where it has
-    at most :data:`BASE_FACTOR` times the budget (a 1080p close-up at half resolution).
-    """
-    if not budget:
-        return 0
-    base = 0
-    while n_pixels / 4 ** (base + 1) >= BASE_FACTOR * budget:
-        base += 1
-    return base
 
 
 def _better(a: LevelFit | None, b: LevelFit) -> LevelFit:

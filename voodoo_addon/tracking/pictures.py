@@ -4,15 +4,27 @@ Frames arrive whole (uint8 from a camera or a video, or float); only the region 
 reach is read. It is blurred like the template (paper §7) and taken down the pyramid to the
 finest level the tracker uses -- in 8 bits when the frame is 8-bit, which is several times
 faster than in float and loses nothing a camera did not already round -- and converted to
-float there.
+float there. :class:`FramePictures` keeps the pyramids of the frame being fitted: the fits of
+one frame from the same region (a second start, a fit made again against the template)
+share one.
 """
 
 from __future__ import annotations
 
+import math
+
 import cv2
 import numpy as np
 
+from ..errors import VoodooError
 from ..media.images import blur
+
+#: A blob is tracked on the finest pyramid level where it keeps fewer than this many times
+#: the pixel budget (see :func:`base_level`).
+BASE_FACTOR = 2.0
+#: The region read around the blob reaches this share of its size beyond its nodes (and at
+#: least 8 pixels of the coarsest level).
+MARGIN = 0.15
 
 
 def to_float(pixels: np.ndarray) -> np.ndarray:
@@ -25,6 +37,28 @@ def to_float(pixels: np.ndarray) -> np.ndarray:
     if not np.isfinite(out.sum(dtype=np.float64)):  # one pass: NaN or inf spoil the sum
         out = np.nan_to_num(out, nan=0.0, posinf=1.0, neginf=0.0)
     return out
+
+
+def checked_frame(frame, size: tuple) -> np.ndarray:
+    """``frame`` as an array, checked to be uint8 or float32 RGB of ``size`` (w, h).
+
+    Raises
+    ------
+    VoodooError
+        Naming what is wrong with it.
+    """
+    frame = np.asarray(frame)
+    if frame.ndim != 3 or frame.shape[2] != 3:
+        raise VoodooError(f"A frame must be an RGB picture; got shape {frame.shape}.")
+    if frame.dtype not in (np.uint8, np.float32):
+        raise VoodooError("Frames must be uint8 RGB, or float32 RGB in [0, 1].")
+    h, w = frame.shape[:2]
+    if (w, h) != tuple(size):
+        raise VoodooError(
+            f"This frame is {w}x{h} but the blob was built on a {size[0]}x"
+            f"{size[1]} frame; use the same camera mode or clip."
+        )
+    return frame
 
 
 class FramePyramid:
@@ -62,3 +96,80 @@ class FramePyramid:
             if k not in self._levels:
                 self._levels[k] = cv2.pyrDown(self._levels[k - 1])
         return self._levels[level]
+
+
+class FramePictures:
+    """The pyramids of the frame being fitted, one per region read, until the next frame.
+
+    Parameters
+    ----------
+    sigma : float
+        The template's blur, full-resolution pixels.
+    base : int
+        The finest level used (see :func:`base_level`).
+    n_levels : int
+        The levels used from ``base`` on: a region starts on a pixel of the coarsest.
+    """
+
+    def __init__(self, sigma: float, base: int, n_levels: int):
+        self.sigma = sigma
+        self.base = base
+        self.align = 2 ** (base + n_levels - 1)
+        self.forget()
+
+    def forget(self) -> None:
+        """Drop the pyramids kept.
+
+        Call it before a new frame: a camera may hand over the same buffer with new pixels.
+        """
+        self._frame = None
+        self._kept: dict[tuple, FramePyramid] = {}
+
+    def whole(self, frame: np.ndarray):
+        """(FramePyramid, origin) of the whole frame."""
+        h, w = frame.shape[:2]
+        return self._region(frame, (0, 0, w, h))
+
+    def around(self, frame: np.ndarray, nodes: np.ndarray):
+        """(FramePyramid, origin) of the region around ``nodes`` (m, 2) frame pixels.
+
+        None when the nodes are not finite or the region is (nearly) off the frame.
+        """
+        if not np.isfinite(nodes).all():
+            return None
+        h, w = frame.shape[:2]
+        align = self.align
+        (lx, ly), (hx, hy) = nodes.min(axis=0).tolist(), nodes.max(axis=0).tolist()
+        margin = max(MARGIN * max(hx - lx, hy - ly), 8.0 * align)
+        x0 = min(max(math.floor((lx - margin) / align) * align, 0), w)
+        y0 = min(max(math.floor((ly - margin) / align) * align, 0), h)
+        x1 = min(max(math.ceil(hx + margin) + 1, 0), w)
+        y1 = min(max(math.ceil(hy + margin) + 1, 0), h)
+        if x1 - x0 < 8 or y1 - y0 < 8:
+            return None
+        return self._region(frame, (x0, y0, x1, y1))
+
+    def _region(self, frame: np.ndarray, box: tuple):
+        if frame is not self._frame:
+            self.forget()
+            self._frame = frame
+        pyr = self._kept.get(box)
+        if pyr is None:
+            x0, y0, x1, y1 = box
+            pyr = self._kept[box] = FramePyramid(frame[y0:y1, x0:x1], self.sigma, self.base)
+        return pyr, np.array(box[:2], float)
+
+
+def base_level(n_pixels: int, budget: int | None) -> int:
+    """The finest pyramid level worth tracking a blob of ``n_pixels`` on.
+
+    A blob much bigger than the pixel budget is subsampled anyway, so reading, blurring and
+    sampling the frame at full resolution buys nothing: track it on the level where it has
+    at most :data:`BASE_FACTOR` times the budget (a 1080p close-up at half resolution).
+    """
+    if not budget:
+        return 0
+    base = 0
+    while n_pixels / 4 ** (base + 1) >= BASE_FACTOR * budget:
+        base += 1
+    return base

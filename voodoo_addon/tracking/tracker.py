@@ -22,6 +22,7 @@ from .local import LocalStage
 from .norms import LorentzianNorm, RobustNorm
 from .options import TrackerOptions
 from .params import ParamLayout
+from .pictures import checked_frame
 from .proposals import FeatureMatcher, MotionProposal
 from .warp import CpuWarp, WarpBackend
 
@@ -181,7 +182,8 @@ class Tracker:
         -------
         TrackResult
         """
-        frame = self._check_frame(frame)
+        frame = checked_frame(frame, self.frame_size)
+        self.fitter.forget_pictures()
         self.fitter.set_cover(cover)
         with single_blas_thread():
             return self._track(frame)
@@ -382,20 +384,6 @@ class Tracker:
             frozen = list(self.frozen)
             guess[frozen] = self.last_good[frozen]
         return guess
-
-    def _check_frame(self, frame: np.ndarray) -> np.ndarray:
-        frame = np.asarray(frame)
-        if frame.ndim != 3 or frame.shape[2] != 3:
-            raise VoodooError(f"A frame must be an RGB picture; got shape {frame.shape}.")
-        if frame.dtype not in (np.uint8, np.float32):
-            raise VoodooError("Frames must be uint8 RGB, or float32 RGB in [0, 1].")
-        h, w = frame.shape[:2]
-        if (w, h) != self.frame_size:
-            raise VoodooError(
-                f"This frame is {w}x{h} but the blob was built on a {self.frame_size[0]}x"
-                f"{self.frame_size[1]} frame; use the same camera mode or clip."
-            )
-        return frame
 
     def _predict(self) -> np.ndarray:
         a = self.state.copy()
