@@ -106,7 +106,9 @@ every other clip, into ``samples/heldout_folds``::
     rest, towards the camera, and back.
 
 Everything is seeded: the same command makes the same scenes, truth and outlines (Cycles runs
-seeded on one thread, so the renders should repeat too). All seven take about 50 minutes.
+seeded on one thread, so the renders should repeat too). The seven tuned clips, which a run
+without ``--only`` renders, take about 50 minutes; the held-out, several-doll and fold clips are
+rendered by naming them with ``--only``.
 
 This file is the command line; the work is in ``hardclips/`` (scene, materials, sheet,
 scenarios, truth, video, make: see its ``__init__``), built on ``blender_scene.py``,
