@@ -132,7 +132,6 @@ def cmd_live(args) -> int:
     from .media.sources import open_source
     from .stream import OscSender, osc_name
     from .takes.dolls import save_takes
-    from .takes.take import Take
 
     if args.frames is not None:
         whole(args.frames, "the number of frames (--frames)", 1)
@@ -169,19 +168,7 @@ def cmd_live(args) -> int:
         raise VoodooError("No frame was tracked.")
     msg = f"live: {stats.line()}" + (" (stopped)" if interrupted else "")
     if args.out:
-        idx, times, results = zip(*stats.results, strict=True)
-        takes = {
-            n: Take.from_results(
-                [r[n] for r in results],
-                troupe.blobs[n].triangles,
-                troupe.trackers[n].parameter_names,
-                idx,
-                times,
-                fps,
-            )
-            for n in troupe.names
-        }
-        save_takes(args.out, takes)
+        save_takes(args.out, stats.takes(troupe, fps))
         msg += f" -> {args.out}"
     print(msg)
     return 0
@@ -200,7 +187,7 @@ def cmd_check(args) -> int:
             src.seek(0)
             report[name] = (take, check_take(src, take))
     if args.json:
-        out = {name: _check_json(take, score) for name, (take, score) in report.items()}
+        out = {name: score.report(take) for name, (take, score) in report.items()}
         print(json.dumps({"dolls": out} if several else next(iter(out.values()))))
         return 0
     for name, (take, score) in report.items():
@@ -223,14 +210,6 @@ def cmd_check(args) -> int:
             f"({100 * score.lost_fraction:.0f}%)"
         )
     return 0
-
-
-def _check_json(take, score) -> dict:
-    out = {"frames": len(take), **score.summary()}
-    out["per_frame"] = [None if not np.isfinite(v) else round(float(v), 4) for v in score.per_frame]
-    out["folded"] = score.folded.astype(int).tolist()
-    out["lost"] = score.lost.astype(int).tolist()
-    return out
 
 
 def cmd_segment(args) -> int:
@@ -383,23 +362,11 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _quiet_opencv() -> None:
-    """Silence OpenCV's and FFmpeg's own messages.
-
-    They print for unreadable files and absent cameras; the command line reports those as one
-    line of its own.
-    """
-    import os
-
-    import cv2
-
-    os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")
-    cv2.setLogLevel(0)
-
-
 def main(argv=None) -> int:
+    from .media.sources import quiet_opencv
+
     args = build_parser().parse_args(argv)
-    _quiet_opencv()
+    quiet_opencv()
     if args.command in ("track", "live") and not (args.contour or args.blob):
         print(f"error: {args.command} needs --contour (or --blob)", file=sys.stderr)
         return 2

@@ -18,6 +18,7 @@ from .media.prefetch import Prefetcher
 from .media.sources import FrameSource
 from .stream import OscSender, view_share
 from .takes.rig import unit
+from .takes.take import Take
 from .tracking import Tracker, TrackResult
 from .tracking.troupe import Troupe
 
@@ -62,6 +63,21 @@ class LiveStats:
             f"{self.frames} frames, {self.rate:.1f} fps, latency {1000 * self.latency():.0f} ms "
             f"(p95 {1000 * self.latency(95):.0f} ms)"
         )
+
+    def takes(self, troupe: Troupe, fps: float) -> dict:
+        """Each doll's take (a :class:`~.takes.take.Take` by name) of the tracked frames."""
+        idx, times, results = zip(*self.results, strict=True)
+        return {
+            n: Take.from_results(
+                [r[n] for r in results],
+                troupe.blobs[n].triangles,
+                troupe.trackers[n].parameter_names,
+                idx,
+                times,
+                fps,
+            )
+            for n in troupe.names
+        }
 
 
 def mode_values(tracker: Tracker, params: np.ndarray) -> dict:

@@ -7,6 +7,7 @@ exercise the same code path as a webcam. Frames come out as float32 RGB in [0, 1
 from __future__ import annotations
 
 import abc
+import os
 import time
 from dataclasses import dataclass
 from functools import cached_property
@@ -20,6 +21,16 @@ from .images import to_float_rgb
 
 VIDEO_SUFFIXES = {".mp4", ".avi", ".mov", ".mkv", ".webm", ".m4v", ".mpg", ".mpeg", ".ogv"}
 IMAGE_SUFFIXES = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".exr", ".webp"}
+
+
+def quiet_opencv() -> None:
+    """Silence OpenCV's and FFmpeg's own messages (for the command line).
+
+    They print for unreadable files and absent cameras; the command line reports those as one
+    line of its own.
+    """
+    os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")
+    cv2.setLogLevel(0)
 
 
 @dataclass(frozen=True)

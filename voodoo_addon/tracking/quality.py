@@ -112,6 +112,15 @@ class Consistency:
             "lost_fraction": round(self.lost_fraction, 4),
         }
 
+    def report(self, take) -> dict:
+        """The summary with every frame's figures (JSON-ready) for ``take``, the track scored."""
+        out = {"frames": len(take), **self.summary()}
+        per_frame = self.per_frame
+        out["per_frame"] = [None if not np.isfinite(v) else round(float(v), 4) for v in per_frame]
+        out["folded"] = self.folded.astype(int).tolist()
+        out["lost"] = self.lost.astype(int).tolist()
+        return out
+
 
 class ConsistencyJudge:
     """Scores frames of a track against its reference frame.
