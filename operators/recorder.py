@@ -10,14 +10,12 @@ import time
 from contextlib import ExitStack
 
 import bpy
-import numpy as np
 
 from ..voodoo_addon.errors import VoodooError
 from ..voodoo_addon.media.images import to_uint8_bgr
 from ..voodoo_addon.media.prefetch import PENDING, Prefetcher
 from ..voodoo_addon.media.sources import open_source
 from ..voodoo_addon.stream import OscSender
-from ..voodoo_addon.takes.journal import read_journal
 from ..voodoo_addon.tracking import Tracker
 from ..voodoo_addon.tracking.troupe import Troupe
 from . import drawing
@@ -25,14 +23,7 @@ from .clips import active_clip, open_clip, scene_frame
 from .doll_run import DollRun, alive, check_dolls, unique_name
 from .dolls import doll_settings
 from .gpu_warp import make_backend
-from .storage import (
-    footage_dir,
-    recoverable_journals,
-    store_take,
-    stored_take,
-    take_names,
-    unique_take_name,
-)
+from .storage import footage_dir, recoverable_journals
 
 #: Journals of the takes being recorded in this session (not "interrupted").
 _recording: set = set()
@@ -382,31 +373,3 @@ def recording_now() -> bool:
 def interrupted_takes() -> list:
     """(journal path, blob mesh) of takes an interrupted recording left on disk."""
     return [(p, m) for p, m in recoverable_journals() if p not in _recording]
-
-
-def recover_take(path, blob_mesh) -> str:
-    """Store the take of a journal with its blob; returns the take's name.
-
-    A journal of a resumed take grows the take it continued; any other gets the name it
-    was recorded under (made unique if that name is taken meanwhile). The journal is
-    deleted once the take is stored.
-    """
-    journal = read_journal(path)
-    meta = journal.header.get("meta", {})
-    take, frames = journal.take, journal.frames
-    extends = meta.get("extends")
-    if extends and extends in take_names(blob_mesh):
-        before = stored_take(blob_mesh, extends)
-        if before.frames[-1] < frames[0]:
-            take = before.take.extended(take)
-            frames = np.concatenate([before.frames, frames])
-            name = extends
-        else:
-            name = unique_take_name(blob_mesh, extends)
-    else:
-        name = meta.get("take") or "Take"
-        if name in take_names(blob_mesh):
-            name = unique_take_name(blob_mesh, name)
-    store_take(blob_mesh, name, take, frames, meta.get("rest_frame"))
-    path.unlink(missing_ok=True)
-    return name

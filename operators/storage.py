@@ -29,7 +29,7 @@ import numpy as np
 
 from ..voodoo_addon.blob.model import ActiveBlob, blob_from_bytes, blob_to_bytes
 from ..voodoo_addon.errors import VoodooError
-from ..voodoo_addon.takes.journal import journals_in, read_journal_header
+from ..voodoo_addon.takes.journal import journals_in, read_journal, read_journal_header
 from ..voodoo_addon.takes.take import Take, take_from_bytes, take_to_bytes
 from .pixels import pixels_to_display
 
@@ -306,3 +306,31 @@ def recoverable_journals() -> list:
             _journal_cache[folder] = cached = (stamp, entries)
         found += [(p, blobs[m.get("blob_id")]) for p, m in cached[1] if m.get("blob_id") in blobs]
     return found
+
+
+def recover_take(path, blob_mesh) -> str:
+    """Store the take of a journal with its blob; returns the take's name.
+
+    A journal of a resumed take grows the take it continued; any other gets the name it
+    was recorded under (made unique if that name is taken meanwhile). The journal is
+    deleted once the take is stored.
+    """
+    journal = read_journal(path)
+    meta = journal.header.get("meta", {})
+    take, frames = journal.take, journal.frames
+    extends = meta.get("extends")
+    if extends and extends in take_names(blob_mesh):
+        before = stored_take(blob_mesh, extends)
+        if before.frames[-1] < frames[0]:
+            take = before.take.extended(take)
+            frames = np.concatenate([before.frames, frames])
+            name = extends
+        else:
+            name = unique_take_name(blob_mesh, extends)
+    else:
+        name = meta.get("take") or "Take"
+        if name in take_names(blob_mesh):
+            name = unique_take_name(blob_mesh, name)
+    store_take(blob_mesh, name, take, frames, meta.get("rest_frame"))
+    path.unlink(missing_ok=True)
+    return name

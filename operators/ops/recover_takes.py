@@ -1,7 +1,8 @@
 import bpy
 
 from ...voodoo_addon.errors import VoodooError
-from ..recorder import interrupted_takes, recover_take
+from ..recorder import interrupted_takes
+from ..storage import recover_take
 from .common import settings
 
 
