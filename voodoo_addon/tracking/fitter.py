@@ -226,10 +226,6 @@ class CoarseToFineFitter:
         nodes = np.vstack([self.nodes(a) for a in poses] + ([] if nodes is None else [nodes]))
         return self.pictures.around(frame, nodes)
 
-    def forget_pictures(self) -> None:
-        """Drop the pyramids kept for the last frame (see :class:`FramePictures`)."""
-        self.pictures.forget()
-
     # ------------------------------------------------------------------ fitting
 
     def fit(

@@ -183,7 +183,7 @@ class Tracker:
         TrackResult
         """
         frame = checked_frame(frame, self.frame_size)
-        self.fitter.forget_pictures()
+        self.fitter.pictures.forget()  # a camera may refill the same buffer
         self.fitter.set_cover(cover)
         with single_blas_thread():
             return self._track(frame)
