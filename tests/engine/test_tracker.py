@@ -456,3 +456,88 @@ def test_a_camera_buffer_refilled_with_the_next_frame_is_not_read_stale():
         a = fresh.track(frame.copy())
         b = reused.track(buffer)
         np.testing.assert_array_equal(b.nodes, a.nodes)
+
+
+def test_the_local_stage_is_not_run_where_it_could_never_be_kept(monkeypatch):
+    """Offsets are kept only when they raise the confidence by REFINE_GAIN, and a confidence
+    is at most 1: above HOPELESS_ABOVE the local stage is skipped, and the track is exactly
+    the one it gives when run and turned down."""
+    from voodoo_addon.tracking import local as local_module
+
+    take = scenario("mixed")
+    options = TrackerOptions(refine_below=1.0)  # every frame is a candidate
+    skipping = Tracker(take.blob, options=options)
+    calls = []
+    refine = skipping.fitter.refine
+
+    def recording_refine(fit, *args):
+        calls.append(fit.confidence)
+        return refine(fit, *args)
+
+    monkeypatch.setattr(skipping.fitter, "refine", recording_refine)
+    ran = [skipping.track(frame) for frame in take.frames]
+    assert all(conf < local_module.HOPELESS_ABOVE for conf in calls)
+    assert len(calls) < len(take.frames)  # this clean take fits above it on most frames
+
+    monkeypatch.setattr(local_module, "HOPELESS_ABOVE", 2.0)  # always run it
+    always = Tracker(take.blob, options=options)
+    for a, frame in zip(ran, take.frames):
+        np.testing.assert_array_equal(always.track(frame).nodes, a.nodes)
+
+
+def test_a_trial_fit_is_one_short_descent(monkeypatch):
+    """A trial start (taken only if it beats a fit already made, from that fit's pose) is
+    fitted coarse to fine once, with at most TRIAL_ITERATIONS at the finest level and no
+    search over translations."""
+    from voodoo_addon.tracking import fitter as fitter_module
+
+    take = scenario("translate")
+    tracker = Tracker(take.blob)
+    fitter = tracker.fitter
+    levels, searches = [], []
+    level_fit, search = fitter._level_fit, fitter._coarse_search
+
+    def recording_level_fit(step, *args, **kwargs):
+        out = level_fit(step, *args, **kwargs)
+        levels.append((step.level.finest, out.iterations))
+        return out
+
+    def recording_search(*args):
+        searches.append(1)
+        return search(*args)
+
+    for frame in take.frames[:3]:
+        tracker.track(frame)
+    monkeypatch.setattr(fitter, "_level_fit", recording_level_fit)
+    monkeypatch.setattr(fitter, "_coarse_search", recording_search)
+    far = tracker.state.copy()
+    far[0] += 6.0  # a start the finest level alone would not capture
+    fit = tracker._fit(take.frames[3], [far], trial=True)
+    assert [finest for finest, _ in levels] == [False] * (len(levels) - 1) + [True]
+    assert levels[-1][1] <= fitter_module.TRIAL_ITERATIONS
+    assert not searches
+    assert fit.confidence > 0.5  # still a fit, judged like any other
+
+
+def test_the_rest_shape_is_tried_as_a_trial_after_a_part_was_hidden(monkeypatch):
+    """After a frame with a large part out of view, the rest-shape start is a trial fit."""
+    from voodoo_addon.devtools.synthetic import squash_right
+
+    scene, contour = foam_scene(*SIZE, 8000)
+    rest = scene.render(Pose(), noise=0.01, rng=np.random.default_rng(0))
+    blob = build_blob(rest, contour)
+    tracker = Tracker(blob)
+    for a in list(np.linspace(0.0, 0.95, 8)) + [0.95] * 3:
+        tracker.track(squash_right(rest, scene.centre, scene.length, a))
+    assert tracker._hidden.triangles is not None
+    trials = []
+    fit = tracker._fit
+
+    def recording_fit(*args, **kwargs):
+        trials.append(kwargs.get("trial", False))
+        return fit(*args, **kwargs)
+
+    monkeypatch.setattr(tracker, "_fit", recording_fit)
+    back = tracker.track(rest)
+    assert trials.count(True) == 1
+    assert back.visible.all() and back.confidence > 0.95

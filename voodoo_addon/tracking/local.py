@@ -21,6 +21,9 @@ REFINE_MOTION = 12.0
 #: The local stage's offsets are kept only when they raise the confidence by this much:
 #: small gains are mostly the nodes bending to fit noise or motion blur.
 REFINE_GAIN = 0.05
+#: A quality is at most 1, so above this the offsets could never gain :data:`REFINE_GAIN`:
+#: the local stage is not run (a frame that fits this well is common on clean footage).
+HOPELESS_ABOVE = 1.0 - REFINE_GAIN
 #: When the fit (with the local stage) explains the doll less well than this, creases
 #: through it are tried (see :mod:`.creases`).
 CREASE_BELOW = 0.6
@@ -90,7 +93,9 @@ class LocalStage:
             self.offsets = self.kept_base(fit.params)  # the crease followed, if any
             return fit.quality, fit.visible, None
         start = np.zeros_like(self.fitter.blob.vertices) if self.offsets is None else self.offsets
-        out = self.fitter.refine(fit, start, self.template)
+        out = None
+        if fit.confidence < HOPELESS_ABOVE:
+            out = self.fitter.refine(fit, start, self.template)
         if out is None or out[1].value < fit.confidence + REFINE_GAIN:
             self.offsets = self.kept_base(fit.params)
             quality, visible, ev = fit.quality, fit.visible, None

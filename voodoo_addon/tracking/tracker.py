@@ -317,12 +317,14 @@ class Tracker:
         moved = self.fitter.nodes(fit.params, zero) - self.fitter.nodes(self.state, zero)
         return float(np.sqrt((moved**2).sum(axis=1).mean())) <= LEAP * self.blob.length
 
-    def _fit(self, frame, seeds, wide=False, checked=False, covered=None, adapted=True) -> Fit:
+    def _fit(
+        self, frame, seeds, wide=False, checked=False, covered=None, adapted=True, trial=False
+    ) -> Fit:
         """The fitter's fit; ``adapted``: against the look adapted on the last frame."""
         anchor = None if self.lost else self.state
         template = self._local.template if adapted and not wide else None
         return self.fitter.fit(
-            frame, seeds, wide, self._last_residual, anchor, template, checked, covered
+            frame, seeds, wide, self._last_residual, anchor, template, checked, covered, trial
         )
 
     @staticmethod
@@ -340,7 +342,8 @@ class Tracker:
             if still_hidden(fit, held):
                 fit = held
         if self._hidden.triangles is not None and fit.confidence < opt.refine_below:
-            back = self._fit(frame, [at_rest(fit.params, self.layout, self.frozen)])
+            rest = at_rest(fit.params, self.layout, self.frozen)
+            back = self._fit(frame, [rest], trial=True)
             its += back.iterations
             if returned(fit, back):
                 fit = back
