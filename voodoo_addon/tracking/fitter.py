@@ -250,11 +250,9 @@ class CoarseToFineFitter:
         (the coarse levels always use the template). ``checked``: the seeds and the anchor
         are known to fold nothing (the tracker's own states and predictions). ``covered``
         (t,) bool: triangles the finest level leaves out as covered instead of testing.
-        ``trial``: a start taken only if it beats a fit already made, from the pose of
-        that fit (the rest shape tried when a hidden part may be back): one descent coarse
-        to fine, at most :data:`TRIAL_ITERATIONS` at the finest level, no search over
-        translations. Run in full, it spent 20 ms on the frames of the real bag clip that
-        tried it, never to be taken, and made most of its 95th percentile.
+        ``trial``: a start from a fit's own pose, taken only if it beats that fit (the
+        rest shape, when a hidden part may be back): one descent, at most
+        :data:`TRIAL_ITERATIONS` at the finest level, no search over translations.
 
         1. Unless searching wide, the finest level is tried first from ``seeds[0]``: when
            the prediction was good that is all a frame needs.
