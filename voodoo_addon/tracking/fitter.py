@@ -279,7 +279,7 @@ class CoarseToFineFitter:
         best = None
         if trial:
             best = self._descend(images, origin, seeds[0], wide, fine_cap=TRIAL_ITERATIONS)
-            its, limit = best.iterations, np.inf
+            its = best.iterations
         elif not wide and len(self.levels) > 1:
             res = self._level_fit(self.levels[0], images, origin, seeds[0], bail=limit)
             its += res.iterations
