@@ -5,7 +5,13 @@ import pytest
 
 from voodoo_addon.blob.build import build_blob
 from voodoo_addon.devtools.scenarios import scenario_take
-from voodoo_addon.tracking.folding import BACKOFF, MAX_AREA, MIN_AREA, FoldGuard, _first_crossing
+from voodoo_addon.tracking import kernels
+from voodoo_addon.tracking.folding import BACKOFF, MAX_AREA, MIN_AREA, FoldGuard
+
+
+def _first_crossing(f0, f1, f2):
+    """The first crossing in [0, 1] of one quadratic, as the guard's kernel takes it."""
+    return max(0.0, min(1.0, kernels._crossing(float(f0), float(f1), float(f2))))
 
 
 @pytest.fixture(scope="module")
@@ -88,11 +94,53 @@ def test_clamp_pulls_a_folded_shape_back_towards_rest(blob, guard):
     ],
 )
 def test_first_crossing(f0, f1, f2, want):
-    got = _first_crossing(np.array([f0]), np.array([f1]), np.array([f2]))
+    got = _first_crossing(f0, f1, f2)
     assert got == pytest.approx(want)
 
 
 def test_a_triangle_on_its_bound_leaving_it_stops_the_step():
     """Rounding: a triangle exactly on the bound must not slip through (it once did)."""
-    got = _first_crossing(np.array([7.1e-15]), np.array([-12.13]), np.array([-0.3576]))
+    got = _first_crossing(7.1e-15, -12.13, -0.3576)
     assert got < 1e-12
+
+
+def _numpy_step(guard, e1, e2, g1, g2):
+    """The guard's step in plain NumPy, every triangle at once (what the kernel must give)."""
+
+    def cross(u, v):
+        return u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+
+    s = guard._sign
+    a0 = s * 0.5 * cross(e1, e2)
+    b = s * 0.5 * (cross(e1, g2) + cross(g1, e2))
+    c = s * 0.5 * cross(g1, g2)
+    if np.all(a0 - s * guard.low > np.abs(b) + np.abs(c)) and np.all(
+        s * guard.high - a0 > np.abs(b) + np.abs(c)
+    ):
+        return 1.0
+    roots = [
+        _first_crossing(*f)
+        for f in zip(a0 - s * guard.low, b, c)
+    ] + [_first_crossing(*f) for f in zip(s * guard.high - a0, -b, -c)]
+    tau = min(roots)
+    return 1.0 if tau >= 1.0 else BACKOFF * tau
+
+
+def test_the_compiled_step_is_the_numpy_one(blob, guard):
+    """Both ways the kernel reads edges (modes, node offsets) give the NumPy step: exactly
+    from node offsets, to rounding from modes (their edges are summed another way)."""
+    rng = np.random.default_rng(0)
+    tri = blob.triangles
+    got = []
+    for scale in (0.1, 1.0, 5.0, 20.0, 60.0, 200.0) * 3:
+        a = guard.clamp(rng.normal(0, 30.0, blob.n_modes))
+        step = rng.normal(0, scale, blob.n_modes)
+        shape = blob.deformed(a) - blob.centre
+        g = blob.deformed(step) - blob.vertices
+        edges = [shape[tri[:, k]] - shape[tri[:, 0]] for k in (1, 2)]
+        moves = [g[tri[:, k]] - g[tri[:, 0]] for k in (1, 2)]
+        want = _numpy_step(guard, *edges, *moves)
+        assert guard.shape_step(shape, g) == want
+        assert guard.max_step(a, step) == pytest.approx(want, rel=1e-9)
+        got.append(want)
+    assert 1.0 in got and min(got) < 0.5  # whole steps and cut ones were both met

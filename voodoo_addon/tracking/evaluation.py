@@ -15,7 +15,7 @@ Eq. 16 robust values, and decides which triangles take part in the solve:
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -47,6 +47,7 @@ IN_VIEW_CORRELATION = 0.85
 #: at three sigma (an error that large counts the same, however large).
 LOSS_CAP = float(np.log1p(4.5))
 _ONES3 = np.ones(3, dtype=np.float32)
+_ZEROS3 = np.zeros(3, dtype=np.float32)
 
 
 @dataclass
@@ -57,8 +58,8 @@ class Evaluation:
     ----------
     samples : (n, 3) float32
         The frame at the warped template pixels.
-    dbar : (n, 3) float32
-        Robust differences (Eq. 16), lighting removed.
+    rho : (n, 3) float32
+        The robust values of the differences (Eq. 16), lighting removed.
     valid : (n,) bool
         Inside the picture.
     use : (n,) bool
@@ -78,7 +79,7 @@ class Evaluation:
     """
 
     samples: np.ndarray
-    dbar: np.ndarray
+    rho: np.ndarray
     valid: np.ndarray
     use: np.ndarray
     triangle_weight: np.ndarray
@@ -87,6 +88,18 @@ class Evaluation:
     occluded_triangles: np.ndarray | None = None
     hidden: np.ndarray | None = None
     difference: np.ndarray | None = None
+    _dbar: np.ndarray | None = field(default=None, repr=False)
+
+    @property
+    def dbar(self) -> np.ndarray:
+        """Robust differences (n, 3) float32, ``sign(d) sqrt(rho(d))`` (Eq. 16).
+
+        Made when first read: the local stage's iterations read only the difference.
+        """
+        if self._dbar is None:
+            out = np.sqrt(self.rho)
+            self._dbar = np.copysign(out, self.difference, out=out)
+        return self._dbar
 
     @property
     def occluded_share(self) -> float:
@@ -215,7 +228,7 @@ def evaluate(
     residual = compare.capped / max(n_mask, 1)
     return Evaluation(
         samples,
-        compare.dbar,
+        compare.rho,
         valid,
         use,
         weight,
@@ -268,10 +281,11 @@ class _Comparison:
         self.norm = norm
         self.samples = np.ascontiguousarray(samples, dtype=np.float32)
         self.template = level.template if template is None else template
-        gain, bias = np.ones(3, np.float32), np.zeros(3, np.float32)
+        gain, bias = _ONES3, _ZEROS3
         if layout.photometric != "none":
-            b = np.broadcast_to(a[layout.brightness], 3)
-            c = np.exp(np.broadcast_to(a[layout.contrast], 3))
+            b, c = np.empty(3), np.empty(3)
+            b[:], c[:] = a[layout.brightness], a[layout.contrast]  # one value or three
+            np.exp(c, out=c)
             # A global lighting within half an 8-bit grey level of none is not undone.
             if np.abs(c - 1.0).max() >= LIGHTING_EPS or np.abs(b).max() >= LIGHTING_EPS:
                 gain, bias = (1.0 / c).astype(np.float32), (b / c).astype(np.float32)
@@ -298,12 +312,6 @@ class _Comparison:
         self.capped = kernels.masked_loss(
             self.loss, mask, level.triangle, 3 * LOSS_CAP, self.triangle_loss
         )
-
-    @property
-    def dbar(self) -> np.ndarray:
-        """Eq. 16 ``sign(d) sqrt(rho(d))`` of the last comparison (n, 3) float32."""
-        out = np.sqrt(self.rho)
-        return np.copysign(out, self.diff, out=out)
 
 
 def _used(level: Level, mask: np.ndarray, weight: np.ndarray) -> np.ndarray:

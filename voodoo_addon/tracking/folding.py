@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import kernels
+
 #: Smallest and largest modal area of a triangle, as a fraction of its rest area. A surface
 #: turning away from the camera is compressed down to ``MIN_AREA`` (and its triangles are
 #: then hidden, see ``decomposition``), never inverted.
@@ -53,6 +55,8 @@ class FoldGuard:
         phi = np.asarray(modes, np.float64).reshape(-1, 2, k)  # (m, 2, k)
         self.e1 = v[tri[:, 1]] - v[tri[:, 0]]  # (t, 2)
         self.e2 = v[tri[:, 2]] - v[tri[:, 0]]
+        self._rest_edges = np.stack([self.e1, self.e2])  # (2, t, 2)
+        self._corners = np.ascontiguousarray(tri, dtype=np.int64)
         # Edge change per unit mode amplitude, flattened for one matrix product: (2t*2, k).
         d1 = phi[tri[:, 1]] - phi[tri[:, 0]]
         d2 = phi[tri[:, 2]] - phi[tri[:, 0]]
@@ -85,8 +89,9 @@ class FoldGuard:
         """
         if not np.any(step):
             return 1.0
-        e1g, e2g = self._edges(amplitudes)
-        return self._bounded(self.e1 + e1g, self.e2 + e2g, *self._edges(step))
+        e = self._rest_edges + (self._d @ amplitudes).reshape(2, self.n_tri, 2)
+        g = self._d @ step
+        return self._kernel(_NO_NODES, _NO_NODES, _NO_CORNERS, e.ravel(), g)
 
     def shape_ratios(self, shape: np.ndarray) -> np.ndarray:
         """Area over rest area (t,) of a local shape given node by node (m, 2)."""
@@ -97,30 +102,24 @@ class FoldGuard:
         """:meth:`max_step` for node offsets: ``shape`` (m, 2) moving by ``step`` (m, 2)."""
         if not np.any(step):
             return 1.0
-        return self._bounded(*self._shape_edges(shape), *self._shape_edges(step))
+        shape = np.ascontiguousarray(shape, dtype=np.float64)
+        step = np.ascontiguousarray(step, dtype=np.float64)
+        return self._kernel(shape, step, self._corners, _NO_EDGES, _NO_EDGES)
+
+    def _kernel(self, shape, step, corners, e, g) -> float:
+        """The step along edges given by node or as arrays (:func:`.kernels.bounded_step`).
+
+        Along a step the signed area is ``A + B tau + C tau^2``; for tau in [0, 1] it moves
+        by at most ``|B| + |C|``, so most steps are far from both bounds and need no
+        roots. Otherwise each triangle's first crossing of either bound is a closed form.
+        """
+        return kernels.bounded_step(
+            shape, step, corners, e, g, self._sign, self.low, self.high, BACKOFF
+        )
 
     def _shape_edges(self, shape: np.ndarray):
         t = self.triangles
         return shape[t[:, 1]] - shape[t[:, 0]], shape[t[:, 2]] - shape[t[:, 0]]
-
-    def _bounded(self, e1, e2, g1, g2) -> float:
-        """The step along edge changes (g1, g2) from edges (e1, e2) that keeps the bounds."""
-        # Signed area along the step: A + B tau + C tau^2 (times the rest sign, so the
-        # bounds read low <= area <= high for either orientation of the mesh).
-        s = self._sign
-        a0 = s * 0.5 * _cross(e1, e2)
-        b = s * 0.5 * (_cross(e1, g2) + _cross(g1, e2))
-        c = s * 0.5 * _cross(g1, g2)
-        # For tau in [0, 1] the area moves by at most |B| + |C|: most steps are far from
-        # both bounds and need no roots.
-        reach = np.abs(b) + np.abs(c)
-        if np.all(a0 - s * self.low > reach) and np.all(s * self.high - a0 > reach):
-            return 1.0
-        tau = min(
-            _first_crossing(a0 - s * self.low, b, c),  # area - low stays >= 0
-            _first_crossing(s * self.high - a0, -b, -c),  # high - area stays >= 0
-        )
-        return 1.0 if tau >= 1.0 else BACKOFF * tau
 
     def clamp(self, amplitudes: np.ndarray) -> np.ndarray:
         """The amplitudes if valid, else the furthest valid point towards them from rest."""
@@ -130,24 +129,6 @@ class FoldGuard:
         return self.max_step(np.zeros_like(amplitudes), amplitudes) * amplitudes
 
 
-def _first_crossing(f0: np.ndarray, f1: np.ndarray, f2: np.ndarray) -> float:
-    """Smallest ``tau`` in [0, 1] where some ``f0 + f1 tau + f2 tau^2`` reaches 0 (else 1).
-
-    ``f0 >= 0`` (up to rounding) for every entry. The roots are taken in the form that
-    does not cancel (``q = -(f1 + sign(f1) sqrt(disc)) / 2``, roots ``q / f2`` and
-    ``f0 / q``), so a triangle sitting on its bound is seen leaving it at once.
-    """
-    f0 = np.maximum(f0, 0.0)
-    # On the bound and heading out: no step at all.
-    if np.any((f0 <= 1e-12 * (1.0 + np.abs(f1))) & ((f1 < 0) | ((f1 == 0) & (f2 < 0)))):
-        return 0.0
-    disc = f1 * f1 - 4.0 * f2 * f0
-    real = disc >= 0
-    sq = np.sqrt(np.where(real, disc, 0.0))
-    q = -0.5 * (f1 + np.where(f1 >= 0, sq, -sq))
-    r1 = np.divide(q, f2, out=np.full_like(q, np.inf), where=np.abs(f2) > 1e-300)
-    r2 = np.divide(f0, q, out=np.full_like(q, np.inf), where=np.abs(q) > 1e-300)
-    r1 = np.where(real & (r1 > 0), r1, np.inf)
-    r2 = np.where(real & (r2 > 0), r2, np.inf)
-    tau = min(float(r1.min(initial=np.inf)), float(r2.min(initial=np.inf)))
-    return min(1.0, tau)
+_NO_NODES = np.zeros((0, 2))
+_NO_CORNERS = np.zeros((0, 3), np.int64)
+_NO_EDGES = np.zeros(0)

@@ -255,4 +255,97 @@ def gradients(image, positions, out):
             out[i, nc + ch] = 0.5 * (gx * left + fx * right)
 
 
+@nb.njit(**_OPTS)
+def _area_terms(e1x, e1y, e2x, e2y, g1x, g1y, g2x, g2y, s):
+    """A triangle's signed area along a step, ``a0 + b tau + c tau^2``, times its sign."""
+    h = s * 0.5
+    a0 = h * (e1x * e2y - e1y * e2x)
+    b = h * ((e1x * g2y - e1y * g2x) + (g1x * e2y - g1y * e2x))
+    c = h * (g1x * g2y - g1y * g2x)
+    return a0, b, c
+
+
+@nb.njit(**_OPTS)
+def _crossing(f0, f1, f2):
+    """First ``tau > 0`` where ``f0 + f1 tau + f2 tau^2`` reaches 0 (inf: none).
+
+    ``f0 >= 0`` up to rounding. -1 when it sits on 0 (to rounding) and is heading below:
+    no step at all. The roots are taken in the form that does not cancel
+    (``q = -(f1 + sign(f1) sqrt(disc)) / 2``, roots ``q / f2`` and ``f0 / q``), so a
+    triangle sitting on its bound is seen leaving it at once.
+    """
+    f0 = max(f0, 0.0)
+    if f0 <= 1e-12 * (1.0 + abs(f1)) and (f1 < 0 or (f1 == 0 and f2 < 0)):
+        return -1.0
+    disc = f1 * f1 - 4.0 * f2 * f0
+    if not disc >= 0:
+        return np.inf
+    sq = math.sqrt(disc)
+    q = -0.5 * (f1 + (sq if f1 >= 0 else -sq))
+    r1 = q / f2 if abs(f2) > 1e-300 else np.inf
+    r2 = f0 / q if abs(q) > 1e-300 else np.inf
+    return min(r1 if r1 > 0 else np.inf, r2 if r2 > 0 else np.inf)
+
+
+@nb.njit(
+    "float64(float64[:, ::1], float64[:, ::1], int64[:, ::1], float64[::1], float64[::1],"
+    " float64[::1], float64[::1], float64[::1], float64)",
+    **_OPTS,
+)
+def bounded_step(shape, step, triangles, e_start, g_start, sign, low, high, backoff):
+    """The largest ``tau`` in [0, 1] that keeps every triangle's area within its bounds.
+
+    The triangles' edges are either given node by node -- ``shape`` and ``step`` (m, 2),
+    the corners ``triangles`` (t, 3) -- or, when ``triangles`` has no rows, as (e1, e2) and
+    (g1, g2) flattened into ``e_start`` and ``g_start`` (4t: e1 (t, 2), then e2). ``sign``,
+    ``low`` and ``high`` (t,): the rest area's sign and the bounds (see
+    :class:`.folding.FoldGuard`). Returns 1 when the whole step is safe, else ``backoff`` times the first crossing.
+    """
+    t = sign.shape[0]
+    by_node = triangles.shape[0] > 0
+    safe = True
+    tau = 1.0
+    for sweep in range(2):
+        for k in range(t):
+            if by_node:
+                i0 = triangles[k, 0]
+                i1 = triangles[k, 1]
+                i2 = triangles[k, 2]
+                e1x = shape[i1, 0] - shape[i0, 0]
+                e1y = shape[i1, 1] - shape[i0, 1]
+                e2x = shape[i2, 0] - shape[i0, 0]
+                e2y = shape[i2, 1] - shape[i0, 1]
+                g1x = step[i1, 0] - step[i0, 0]
+                g1y = step[i1, 1] - step[i0, 1]
+                g2x = step[i2, 0] - step[i0, 0]
+                g2y = step[i2, 1] - step[i0, 1]
+            else:
+                e1x = e_start[2 * k]
+                e1y = e_start[2 * k + 1]
+                e2x = e_start[2 * t + 2 * k]
+                e2y = e_start[2 * t + 2 * k + 1]
+                g1x = g_start[2 * k]
+                g1y = g_start[2 * k + 1]
+                g2x = g_start[2 * t + 2 * k]
+                g2y = g_start[2 * t + 2 * k + 1]
+            s = sign[k]
+            a0, b, c = _area_terms(e1x, e1y, e2x, e2y, g1x, g1y, g2x, g2y, s)
+            above = a0 - s * low[k]
+            below = s * high[k] - a0
+            if sweep == 0:
+                # Over tau in [0, 1] the area moves by at most |b| + |c|.
+                reach = abs(b) + abs(c)
+                if not (above > reach and below > reach):
+                    safe = False
+                    break
+            else:
+                r = min(_crossing(above, b, c), _crossing(below, -b, -c))
+                if r < 0:
+                    return 0.0
+                tau = min(tau, r)
+        if safe:
+            return 1.0
+    return 1.0 if tau >= 1.0 else backoff * tau
+
+
 _numba_config.CACHE_DIR = _CACHE_DIR  # the kernels are compiled: leave Numba as it was
