@@ -118,10 +118,9 @@ def _numpy_step(guard, e1, e2, g1, g2):
         s * guard.high - a0 > np.abs(b) + np.abs(c)
     ):
         return 1.0
-    roots = [
-        _first_crossing(*f)
-        for f in zip(a0 - s * guard.low, b, c)
-    ] + [_first_crossing(*f) for f in zip(s * guard.high - a0, -b, -c)]
+    roots = [_first_crossing(*f) for f in zip(a0 - s * guard.low, b, c, strict=True)] + [
+        _first_crossing(*f) for f in zip(s * guard.high - a0, -b, -c, strict=True)
+    ]
     tau = min(roots)
     return 1.0 if tau >= 1.0 else BACKOFF * tau
 

@@ -481,7 +481,7 @@ def test_the_local_stage_is_not_run_where_it_could_never_be_kept(monkeypatch):
 
     monkeypatch.setattr(local_module, "HOPELESS_ABOVE", 2.0)  # always run it
     always = Tracker(take.blob, options=options)
-    for a, frame in zip(ran, take.frames):
+    for a, frame in zip(ran, take.frames, strict=True):
         np.testing.assert_array_equal(always.track(frame).nodes, a.nodes)
 
 

@@ -184,7 +184,11 @@ def evaluate(
 
     nt = level.n_triangles
     size = level.triangle_size
-    count = size if valid_all else np.bincount(level.triangle, weights=valid, minlength=nt)
+    if valid_all:
+        count = size
+    else:
+        count = np.empty(nt)
+        kernels.count_per_triangle(valid, level.triangle, count)
     seen = (count >= 0.5 * size) & (size > 0)
     if hidden is not None:
         seen &= ~hidden

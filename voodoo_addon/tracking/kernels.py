@@ -10,8 +10,9 @@ ahead of the first frame and cached on disk).
 Every kernel has an explicit signature, so it is compiled when this module is imported (or
 loaded from Numba's cache), never in the middle of a take. Shapes and meanings follow the
 NumPy code they replace: :meth:`.level.Level.positions`, :class:`.warp.CpuWarp`,
-:meth:`.photometry.Patches.project`, :func:`.evaluation._robust` and
-:meth:`.refine.LocalRefiner.normal_equations`.
+:meth:`.photometry.Patches.project`, :class:`.evaluation._Comparison`,
+:meth:`.refine.LocalRefiner.normal_equations` and the fold guard's step
+(:class:`.folding.FoldGuard`).
 """
 
 from __future__ import annotations
@@ -136,6 +137,16 @@ def project(samples, target, gain, bias, template, starts, mask, textured, diff,
                     diff[i, ch] = 0.0
 
 
+@nb.njit("void(boolean[::1], int64[::1], float64[::1])", **_OPTS)
+def count_per_triangle(mask, triangle, out):
+    """How many pixels of each triangle are in ``mask``, into ``out`` (t,)."""
+    for t in range(out.shape[0]):
+        out[t] = 0.0
+    for i in range(mask.shape[0]):
+        if mask[i]:
+            out[triangle[i]] += 1.0
+
+
 @nb.njit("float64(float32[::1], boolean[::1], int64[::1], float64, float64[::1])", **_OPTS)
 def masked_loss(loss, mask, triangle, cap, triangle_loss):
     """Each triangle's loss over the masked pixels, into ``triangle_loss`` (t,).
@@ -226,32 +237,40 @@ def gradients(image, positions, out):
         fy = y - fy0
         x0 = int(fx0)
         y0 = int(fy0)
-        cm = min(max(x0 - 1, 0), w - 1)
-        c0 = min(max(x0, 0), w - 1)
-        c1 = min(max(x0 + 1, 0), w - 1)
-        c2 = min(max(x0 + 2, 0), w - 1)
-        rm = min(max(y0 - 1, 0), h - 1)
-        r0 = min(max(y0, 0), h - 1)
-        r1 = min(max(y0 + 1, 0), h - 1)
-        r2 = min(max(y0 + 2, 0), h - 1)
+        if 1 <= x0 and x0 + 2 < w and 1 <= y0 and y0 + 2 < h:  # inside: no clamping
+            cm, c0, c1, c2 = x0 - 1, x0, x0 + 1, x0 + 2
+            rm, r0, r1, r2 = y0 - 1, y0, y0 + 1, y0 + 2
+        else:
+            cm = min(max(x0 - 1, 0), w - 1)
+            c0 = min(max(x0, 0), w - 1)
+            c1 = min(max(x0 + 1, 0), w - 1)
+            c2 = min(max(x0 + 2, 0), w - 1)
+            rm = min(max(y0 - 1, 0), h - 1)
+            r0 = min(max(y0, 0), h - 1)
+            r1 = min(max(y0 + 1, 0), h - 1)
+            r2 = min(max(y0 + 2, 0), h - 1)
         gx = 1.0 - fx
         gy = 1.0 - fy
         for ch in range(nc):
+            p0m, p00, p01, p02 = (
+                image[r0, cm, ch],
+                image[r0, c0, ch],
+                image[r0, c1, ch],
+                image[r0, c2, ch],
+            )
+            p1m, p10, p11, p12 = (
+                image[r1, cm, ch],
+                image[r1, c0, ch],
+                image[r1, c1, ch],
+                image[r1, c2, ch],
+            )
             # x: B(x + 1, y) - B(x - 1, y) on rows r0, r1
-            top = gx * (image[r0, c1, ch] - image[r0, cm, ch]) + fx * (
-                image[r0, c2, ch] - image[r0, c0, ch]
-            )
-            bot = gx * (image[r1, c1, ch] - image[r1, cm, ch]) + fx * (
-                image[r1, c2, ch] - image[r1, c0, ch]
-            )
+            top = gx * (p01 - p0m) + fx * (p02 - p00)
+            bot = gx * (p11 - p1m) + fx * (p12 - p10)
             out[i, ch] = 0.5 * (gy * top + fy * bot)
             # y: B(x, y + 1) - B(x, y - 1) on columns c0, c1
-            left = gy * (image[r1, c0, ch] - image[rm, c0, ch]) + fy * (
-                image[r2, c0, ch] - image[r0, c0, ch]
-            )
-            right = gy * (image[r1, c1, ch] - image[rm, c1, ch]) + fy * (
-                image[r2, c1, ch] - image[r0, c1, ch]
-            )
+            left = gy * (p10 - image[rm, c0, ch]) + fy * (image[r2, c0, ch] - p00)
+            right = gy * (p11 - image[rm, c1, ch]) + fy * (image[r2, c1, ch] - p01)
             out[i, nc + ch] = 0.5 * (gx * left + fx * right)
 
 
@@ -299,7 +318,8 @@ def bounded_step(shape, step, triangles, e_start, g_start, sign, low, high, back
     the corners ``triangles`` (t, 3) -- or, when ``triangles`` has no rows, as (e1, e2) and
     (g1, g2) flattened into ``e_start`` and ``g_start`` (4t: e1 (t, 2), then e2). ``sign``,
     ``low`` and ``high`` (t,): the rest area's sign and the bounds (see
-    :class:`.folding.FoldGuard`). Returns 1 when the whole step is safe, else ``backoff`` times the first crossing.
+    :class:`.folding.FoldGuard`). Returns 1 when the whole step is safe, else ``backoff``
+    times the first crossing.
     """
     t = sign.shape[0]
     by_node = triangles.shape[0] > 0
