@@ -157,8 +157,11 @@ class QualityMeter:
         seen = float(w.sum()) / self.total if self.total > 0 else 0.0
         if not ok.any() or self.total <= 0:
             return Quality(0.0, 0.0, seen, 1.0)
-        corr = float((w[ok] * ncc[ok]).sum() / w[ok].sum())
-        by_tri = np.nan_to_num(ncc * w).reshape(self.n_tri, self.channels).sum(axis=1)
+        weighed = w[ok] * ncc[ok]
+        corr = float(weighed.sum() / w[ok].sum())
+        by_tri = np.zeros(self.size)  # the triangle-channels that are not ok weigh nothing
+        by_tri[ok] = weighed
+        by_tri = by_tri.reshape(self.n_tri, self.channels).sum(axis=1)
         tri_w = w.reshape(self.n_tri, self.channels).sum(axis=1)
         poor = (tri_w > 0) & (by_tri < POOR_CORRELATION * tri_w)
         poor_share = float(tri_w[poor].sum()) / self.total

@@ -10,6 +10,7 @@ parameter update of one evaluation.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -61,6 +62,12 @@ class Solver:
     reg: np.ndarray
     modal: np.ndarray
     modal_gram: np.ndarray
+
+    @cached_property
+    def modal_block(self) -> slice | None:
+        """The modes among the active parameters, as a slice (they are consecutive)."""
+        at = np.flatnonzero(self.modal)
+        return slice(int(at[0]), int(at[-1]) + 1) if len(at) else None
 
 
 def build_solver(
@@ -160,8 +167,9 @@ def solve(
     """
     if not ev.weighted:
         return solver.update @ ev.dbar.ravel() - solver.prior @ a_act
-    gram = np.tensordot(ev.triangle_weight, solver.triangle_gram, axes=1)
-    gone = np.nonzero((ev.triangle_weight[level.triangle] > 0) & ~ev.use)[0]
+    p = len(solver.active)
+    gram = np.dot(ev.triangle_weight[None], solver.triangle_gram.reshape(-1, p * p)).reshape(p, p)
+    gone = np.nonzero((ev.triangle_weight > 0)[level.triangle] & ~ev.use)[0]
     if len(gone):
         rows = (3 * gone[:, None] + np.arange(3)).ravel()
         jg = solver.jacobian[:, rows].astype(np.float64)
@@ -170,17 +178,19 @@ def solve(
     rhs = solver.jacobian @ dbar.ravel()  # (the patch projection zeroes unused pixels)
     rhs = rhs - solver.reg * a_act
     unseen = 1.0 - ev.triangle_weight
-    m = solver.modal
-    if anchor is not None and m.any() and unseen.any():
+    m = solver.modal_block
+    if anchor is not None and m is not None and unseen.any():
         hidden = ev.hidden
         held = unseen if hidden is None else unseen * ~hidden
-        hold = np.tensordot(held, solver.modal_gram, axes=1)
+        q = solver.modal_gram.shape[1]
+        modal_gram = solver.modal_gram.reshape(-1, q * q)
+        hold = np.dot(held[None], modal_gram).reshape(q, q)
         target = hold @ (anchor[m] - a_act[m])
         if hidden is not None:
-            reopen = REOPEN * np.tensordot(hidden.astype(np.float64), solver.modal_gram, axes=1)
+            reopen = REOPEN * np.dot(hidden[None].astype(np.float64), modal_gram).reshape(q, q)
             hold = hold + reopen
             target = target - reopen @ a_act[m]
-        gram[np.ix_(m, m)] += hold
+        gram[m, m] += hold
         rhs[m] += target
     try:
         return np.linalg.solve(gram + solver.penalty, rhs)
