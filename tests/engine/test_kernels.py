@@ -122,3 +122,26 @@ def test_a_linear_ramp_has_its_slope_as_gradient():
     out = np.empty((2, 6), np.float32)
     kernels.gradients(image, pos, out)
     np.testing.assert_allclose(out, [[0.01, 0, 0.01, 0, 0.02, -0.03]] * 2, atol=1e-6)
+
+
+def test_on_picture_is_the_box_test_and_counts():
+    pos = np.stack([RNG.uniform(-3, 23, 70), RNG.uniform(-3, 13, 70)]).astype(np.float32)
+    pos[0, 5] = np.nan  # not a number: off the picture
+    valid = np.empty(64, bool)  # the last six columns are padding
+    count = kernels.on_picture(pos, np.float32(20), np.float32(10), valid)
+    x, y = pos[:, :64]
+    want = (x >= 0) & (y >= 0) & (x <= 20) & (y <= 10)
+    np.testing.assert_array_equal(valid, want)
+    assert count == np.count_nonzero(want) and 0 < count < 64 and not valid[5]
+
+
+def test_pixels_of_kept_triangles_and_counts_per_triangle():
+    triangle = RNG.integers(0, 9, 200).astype(np.int64)
+    mask = RNG.uniform(size=200) > 0.3
+    keep = RNG.uniform(size=9) > 0.4
+    out = np.empty(200, bool)
+    kernels.of_triangles(mask, keep, triangle, out)
+    np.testing.assert_array_equal(out, mask & keep[triangle])
+    count = np.empty(9)
+    kernels.count_per_triangle(mask, triangle, count)
+    np.testing.assert_array_equal(count, np.bincount(triangle, weights=mask, minlength=9))

@@ -164,22 +164,22 @@ def evaluate(
         nodes = level.nodes(a)
     pos = level.positions(a, nodes)
     pos -= origin[:, None]
-    x, y = pos[0, :n], pos[1, :n]
-    if x.min() >= 0 and y.min() >= 0 and x.max() <= box[0] and y.max() <= box[1]:
+    valid = np.empty(n, bool)
+    on = kernels.on_picture(pos, box[0], box[1], valid)
+    if on == n:
         valid = None
-    else:
-        valid = (x >= 0) & (y >= 0) & (x <= box[0]) & (y <= box[1])
     if cover is not None:
-        free = cover.free(x + origin[0], y + origin[1], level.scale)
+        free = cover.free(pos[0, :n] + origin[0], pos[1, :n] + origin[1], level.scale)
         if free is not None:
             valid = free if valid is None else valid & free
-    if valid is not None and np.count_nonzero(valid) < 0.15 * n:
+            on = np.count_nonzero(valid)
+    if on < 0.15 * n:
         return None
     samples = backend.sample(level.geometry, nodes - origin, pos)
     valid_all = valid is None
     if valid_all:
         valid = level.all_valid
-    mask = valid if hidden is None else valid & ~hidden[level.triangle]
+    mask = valid if hidden is None else _of_triangles(level, valid, ~hidden)
     compare = _Comparison(level, layout, norm, a, samples, template)
 
     nt = level.n_triangles
@@ -322,7 +322,14 @@ def _used(level: Level, mask: np.ndarray, weight: np.ndarray) -> np.ndarray:
     """The masked pixels of the triangles with weight (``mask`` itself when all have)."""
     if weight[level.triangle_size > 0].all():
         return mask
-    return mask & (weight[level.triangle] > 0)
+    return _of_triangles(level, mask, weight > 0)
+
+
+def _of_triangles(level: Level, mask: np.ndarray, keep: np.ndarray) -> np.ndarray:
+    """The pixels of ``mask`` (n,) whose triangle is kept (``keep`` (t,) bool)."""
+    out = np.empty(len(mask), bool)
+    kernels.of_triangles(mask, keep, level.triangle, out)
+    return out
 
 
 def _coverable(correlation) -> float:

@@ -137,6 +137,29 @@ def project(samples, target, gain, bias, template, starts, mask, textured, diff,
                     diff[i, ch] = 0.0
 
 
+@nb.njit("int64(float32[:, ::1], float32, float32, boolean[::1])", **_OPTS)
+def on_picture(positions, bx, by, valid):
+    """Which positions (2, n_pad) lie on the picture ``[0, bx] x [0, by]``; how many do.
+
+    The first n go into ``valid`` (n,). A position that is not a number lies off it.
+    """
+    count = 0
+    for i in range(valid.shape[0]):
+        x = positions[0, i]
+        y = positions[1, i]
+        inside = x >= 0 and y >= 0 and x <= bx and y <= by
+        valid[i] = inside
+        count += inside
+    return count
+
+
+@nb.njit("void(boolean[::1], boolean[::1], int64[::1], boolean[::1])", **_OPTS)
+def of_triangles(mask, keep, triangle, out):
+    """``out = mask & keep[triangle]``: the pixels of ``mask`` whose triangle is kept."""
+    for i in range(mask.shape[0]):
+        out[i] = mask[i] and keep[triangle[i]]
+
+
 @nb.njit("void(boolean[::1], int64[::1], float64[::1])", **_OPTS)
 def count_per_triangle(mask, triangle, out):
     """How many pixels of each triangle are in ``mask``, into ``out`` (t,)."""
