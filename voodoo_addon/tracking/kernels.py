@@ -8,8 +8,9 @@ here each is a loop that reads a pixel once and keeps the sums in registers (Num
 ahead of the first frame and cached on disk).
 
 Every kernel has an explicit signature, so it is compiled when this module is imported (or
-loaded from Numba's cache), never in the middle of a take. Shapes and meanings follow the
-NumPy code they replace: :meth:`.level.Level.positions`, :class:`.warp.CpuWarp`,
+loaded from Numba's cache), never in the middle of a take; the two helpers of the fold
+guard's step (``_area_terms``, ``_crossing``) are compiled into it then. Shapes and meanings
+follow the NumPy code they replace: :meth:`.level.Level.positions`, :class:`.warp.CpuWarp`,
 :meth:`.photometry.Patches.project`, :class:`.evaluation._Comparison`,
 :meth:`.refine.LocalRefiner.normal_equations` and the fold guard's step
 (:class:`.folding.FoldGuard`).
