@@ -171,9 +171,18 @@ def test_voodoo_live_streams_every_frame_in_order_as_in_the_take_file(tmp_path, 
         assert lost == int(take.lost[row])
 
 
+def _default_sigint():
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+
+
 def test_voodoo_live_stops_cleanly_on_ctrl_c_and_keeps_the_take(tmp_path):
     out = tmp_path / "take.npz"
-    proc = run_live("--out", out)  # at the clip's own pace: about five seconds
+    # Started with Ctrl-C at its default and unblocked, as from a terminal, whatever the test
+    # process's libraries did to it: a child inherits an ignored or blocked SIGINT. (In two
+    # full CI runs the command never saw the Ctrl-C; run alone it always did. The cause is
+    # not pinned down.)
+    proc = run_live("--out", out, preexec_fn=_default_sigint)  # the clip's pace: about 5 s
     # Ctrl-C once the take is under way (its first once-a-second status line), not after a
     # fixed time: a busy machine may still be starting the command then.
     lines = []
