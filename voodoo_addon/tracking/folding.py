@@ -53,9 +53,8 @@ class FoldGuard:
         self.triangles = tri
         k = modes.shape[1]
         phi = np.asarray(modes, np.float64).reshape(-1, 2, k)  # (m, 2, k)
-        self.e1 = v[tri[:, 1]] - v[tri[:, 0]]  # (t, 2)
-        self.e2 = v[tri[:, 2]] - v[tri[:, 0]]
-        self._rest_edges = np.stack([self.e1, self.e2])  # (2, t, 2)
+        self._rest_edges = np.stack([v[tri[:, 1]] - v[tri[:, 0]], v[tri[:, 2]] - v[tri[:, 0]]])
+        self.e1, self.e2 = self._rest_edges  # (t, 2) each
         self._corners = np.ascontiguousarray(tri, dtype=np.int64)
         # Edge change per unit mode amplitude, flattened for one matrix product: (2t*2, k).
         d1 = phi[tri[:, 1]] - phi[tri[:, 0]]
@@ -90,8 +89,7 @@ class FoldGuard:
         if not np.any(step):
             return 1.0
         e = self._rest_edges + (self._d @ amplitudes).reshape(2, self.n_tri, 2)
-        g = self._d @ step
-        return self._kernel(_NO_NODES, _NO_NODES, _NO_CORNERS, e.ravel(), g)
+        return self._bounded(e.ravel(), self._d @ step)
 
     def shape_ratios(self, shape: np.ndarray) -> np.ndarray:
         """Area over rest area (t,) of a local shape given node by node (m, 2)."""
@@ -102,20 +100,20 @@ class FoldGuard:
         """:meth:`max_step` for node offsets: ``shape`` (m, 2) moving by ``step`` (m, 2)."""
         if not np.any(step):
             return 1.0
-        shape = np.ascontiguousarray(shape, dtype=np.float64)
-        step = np.ascontiguousarray(step, dtype=np.float64)
-        return self._kernel(shape, step, self._corners, _NO_EDGES, _NO_EDGES)
+        e, g = np.empty(4 * self.n_tri), np.empty(4 * self.n_tri)
+        kernels.edges(np.ascontiguousarray(shape, dtype=np.float64), self._corners, e)
+        kernels.edges(np.ascontiguousarray(step, dtype=np.float64), self._corners, g)
+        return self._bounded(e, g)
 
-    def _kernel(self, shape, step, corners, e, g) -> float:
-        """The step along edges given by node or as arrays (:func:`.kernels.bounded_step`).
+    def _bounded(self, e: np.ndarray, g: np.ndarray) -> float:
+        """The step along edge changes ``g`` from edges ``e`` (4t each, both edges' x and y).
 
         Along a step the signed area is ``A + B tau + C tau^2``; for tau in [0, 1] it moves
         by at most ``|B| + |C|``, so most steps are far from both bounds and need no
-        roots. Otherwise each triangle's first crossing of either bound is a closed form.
+        roots. Otherwise each triangle's first crossing of either bound is a closed form
+        (:func:`.kernels.bounded_step`).
         """
-        return kernels.bounded_step(
-            shape, step, corners, e, g, self._sign, self.low, self.high, BACKOFF
-        )
+        return kernels.bounded_step(e, g, self._sign, self.low, self.high, BACKOFF)
 
     def _shape_edges(self, shape: np.ndarray):
         t = self.triangles
@@ -127,8 +125,3 @@ class FoldGuard:
         if self.valid(amplitudes):
             return amplitudes
         return self.max_step(np.zeros_like(amplitudes), amplitudes) * amplitudes
-
-
-_NO_NODES = np.zeros((0, 2))
-_NO_CORNERS = np.zeros((0, 3), np.int64)
-_NO_EDGES = np.zeros(0)

@@ -299,8 +299,13 @@ def gradients(image, positions, out):
 
 
 @nb.njit(**_OPTS)
-def _area_terms(e1x, e1y, e2x, e2y, g1x, g1y, g2x, g2y, s):
-    """A triangle's signed area along a step, ``a0 + b tau + c tau^2``, times its sign."""
+def _area_terms(e, g, k, t, s):
+    """Triangle ``k``'s signed area along a step, ``a0 + b tau + c tau^2``, times its sign.
+
+    ``e`` and ``g`` (4t): its edges and their change, as :func:`edges` lays them out.
+    """
+    e1x, e1y, e2x, e2y = e[2 * k], e[2 * k + 1], e[2 * t + 2 * k], e[2 * t + 2 * k + 1]
+    g1x, g1y, g2x, g2y = g[2 * k], g[2 * k + 1], g[2 * t + 2 * k], g[2 * t + 2 * k + 1]
     h = s * 0.5
     a0 = h * (e1x * e2y - e1y * e2x)
     b = h * ((e1x * g2y - e1y * g2x) + (g1x * e2y - g1y * e2x))
@@ -330,65 +335,53 @@ def _crossing(f0, f1, f2):
     return min(r1 if r1 > 0 else np.inf, r2 if r2 > 0 else np.inf)
 
 
+@nb.njit("void(float64[:, ::1], int64[:, ::1], float64[::1])", **_OPTS)
+def edges(points, triangles, out):
+    """The triangles' two edges from their first corner, from ``points`` (m, 2).
+
+    ``out`` (4t): every triangle's first edge (x, y), then every triangle's second.
+    """
+    t = triangles.shape[0]
+    for k in range(t):
+        i0, i1, i2 = triangles[k, 0], triangles[k, 1], triangles[k, 2]
+        out[2 * k] = points[i1, 0] - points[i0, 0]
+        out[2 * k + 1] = points[i1, 1] - points[i0, 1]
+        out[2 * t + 2 * k] = points[i2, 0] - points[i0, 0]
+        out[2 * t + 2 * k + 1] = points[i2, 1] - points[i0, 1]
+
+
 @nb.njit(
-    "float64(float64[:, ::1], float64[:, ::1], int64[:, ::1], float64[::1], float64[::1],"
-    " float64[::1], float64[::1], float64[::1], float64)",
+    "float64(float64[::1], float64[::1], float64[::1], float64[::1], float64[::1], float64)",
     **_OPTS,
 )
-def bounded_step(shape, step, triangles, e_start, g_start, sign, low, high, backoff):
+def bounded_step(e, g, sign, low, high, backoff):
     """The largest ``tau`` in [0, 1] that keeps every triangle's area within its bounds.
 
-    The triangles' edges are either given node by node -- ``shape`` and ``step`` (m, 2),
-    the corners ``triangles`` (t, 3) -- or, when ``triangles`` has no rows, as (e1, e2) and
-    (g1, g2) flattened into ``e_start`` and ``g_start`` (4t: e1 (t, 2), then e2). ``sign``,
-    ``low`` and ``high`` (t,): the rest area's sign and the bounds (see
-    :class:`.folding.FoldGuard`). Returns 1 when the whole step is safe, else ``backoff``
-    times the first crossing.
+    ``e`` and ``g`` (4t): the triangles' edges and their change along the step (laid out
+    as by :func:`edges`). ``sign``, ``low`` and ``high`` (t,): the rest area's sign and the
+    bounds (see :class:`.folding.FoldGuard`). Returns 1 when the whole step is safe, else
+    ``backoff`` times the first crossing.
     """
     t = sign.shape[0]
-    by_node = triangles.shape[0] > 0
-    safe = True
+    far = True
+    for k in range(t):
+        s = sign[k]
+        a0, b, c = _area_terms(e, g, k, t, s)
+        # Over tau in [0, 1] the area moves by at most |b| + |c|.
+        reach = abs(b) + abs(c)
+        if not (a0 - s * low[k] > reach and s * high[k] - a0 > reach):
+            far = False
+            break
+    if far:
+        return 1.0
     tau = 1.0
-    for sweep in range(2):
-        for k in range(t):
-            if by_node:
-                i0 = triangles[k, 0]
-                i1 = triangles[k, 1]
-                i2 = triangles[k, 2]
-                e1x = shape[i1, 0] - shape[i0, 0]
-                e1y = shape[i1, 1] - shape[i0, 1]
-                e2x = shape[i2, 0] - shape[i0, 0]
-                e2y = shape[i2, 1] - shape[i0, 1]
-                g1x = step[i1, 0] - step[i0, 0]
-                g1y = step[i1, 1] - step[i0, 1]
-                g2x = step[i2, 0] - step[i0, 0]
-                g2y = step[i2, 1] - step[i0, 1]
-            else:
-                e1x = e_start[2 * k]
-                e1y = e_start[2 * k + 1]
-                e2x = e_start[2 * t + 2 * k]
-                e2y = e_start[2 * t + 2 * k + 1]
-                g1x = g_start[2 * k]
-                g1y = g_start[2 * k + 1]
-                g2x = g_start[2 * t + 2 * k]
-                g2y = g_start[2 * t + 2 * k + 1]
-            s = sign[k]
-            a0, b, c = _area_terms(e1x, e1y, e2x, e2y, g1x, g1y, g2x, g2y, s)
-            above = a0 - s * low[k]
-            below = s * high[k] - a0
-            if sweep == 0:
-                # Over tau in [0, 1] the area moves by at most |b| + |c|.
-                reach = abs(b) + abs(c)
-                if not (above > reach and below > reach):
-                    safe = False
-                    break
-            else:
-                r = min(_crossing(above, b, c), _crossing(below, -b, -c))
-                if r < 0:
-                    return 0.0
-                tau = min(tau, r)
-        if safe:
-            return 1.0
+    for k in range(t):
+        s = sign[k]
+        a0, b, c = _area_terms(e, g, k, t, s)
+        r = min(_crossing(a0 - s * low[k], b, c), _crossing(s * high[k] - a0, -b, -c))
+        if r < 0:
+            return 0.0
+        tau = min(tau, r)
     return 1.0 if tau >= 1.0 else backoff * tau
 
 

@@ -167,8 +167,7 @@ def solve(
     """
     if not ev.weighted:
         return solver.update @ ev.dbar.ravel() - solver.prior @ a_act
-    p = len(solver.active)
-    gram = np.dot(ev.triangle_weight[None], solver.triangle_gram.reshape(-1, p * p)).reshape(p, p)
+    gram = _weighted_sum(ev.triangle_weight, solver.triangle_gram)
     gone = np.nonzero((ev.triangle_weight > 0)[level.triangle] & ~ev.use)[0]
     if len(gone):
         rows = (3 * gone[:, None] + np.arange(3)).ravel()
@@ -182,12 +181,10 @@ def solve(
     if anchor is not None and m is not None and unseen.any():
         hidden = ev.hidden
         held = unseen if hidden is None else unseen * ~hidden
-        q = solver.modal_gram.shape[1]
-        modal_gram = solver.modal_gram.reshape(-1, q * q)
-        hold = np.dot(held[None], modal_gram).reshape(q, q)
+        hold = _weighted_sum(held, solver.modal_gram)
         target = hold @ (anchor[m] - a_act[m])
         if hidden is not None:
-            reopen = REOPEN * np.dot(hidden[None].astype(np.float64), modal_gram).reshape(q, q)
+            reopen = REOPEN * _weighted_sum(hidden.astype(np.float64), solver.modal_gram)
             hold = hold + reopen
             target = target - reopen @ a_act[m]
         gram[m, m] += hold
@@ -196,3 +193,9 @@ def solve(
         return np.linalg.solve(gram + solver.penalty, rhs)
     except np.linalg.LinAlgError:
         return np.zeros_like(a_act)
+
+
+def _weighted_sum(weights: np.ndarray, grams: np.ndarray) -> np.ndarray:
+    """``sum_k weights[k] grams[k]`` (q, q) of per-triangle matrices ``grams`` (t, q, q)."""
+    q = grams.shape[1]
+    return np.dot(weights[None], grams.reshape(-1, q * q)).reshape(q, q)
