@@ -105,6 +105,25 @@ every other clip, into ``samples/heldout_folds``::
     The bottom right corner of a printed t-shirt cloth folds 180 degrees diagonally over the
     rest, towards the camera, and back.
 
+A second batch of held-out clips of folds (``hardclips/heldout_folds2.py``, paint there too),
+made after the tracker's last change, likewise never to tune it on and made only when named,
+apart from every other clip, into ``samples/heldout_folds2``::
+
+    .venv/bin/python scripts/render_hard_clips.py --out samples/heldout_folds2 --only \
+        box_side_squeeze plush_nod paper_half_fold
+
+``box_side_squeeze``
+    Two hands squeeze the printed face of a cereal carton from the left and right: its left
+    part folds back behind the rest along a roughly vertical crease left of the centre in 0.4
+    s while it is pushed along, holds, unfolds, and the hands leave.
+``plush_nod``
+    A furry, low-contrast honey and cocoa plush patch, held at its bottom edge by a hand, nods
+    away from the camera about a horizontal axis: its top part on to 100 degrees, past edge-on,
+    and back.
+``paper_half_fold``
+    The left part of a printed poster folds 180 degrees over the rest, towards the camera, in a
+    soft loop, and back, while the sheet turns a few degrees in its plane.
+
 Everything is seeded: the same command makes the same scenes, truth and outlines (Cycles runs
 seeded on one thread, so the renders should repeat too). The seven tuned clips, which a run
 without ``--only`` renders, take about 50 minutes; the held-out, several-doll and fold clips are
@@ -122,6 +141,7 @@ from pathlib import Path
 from hardclips.folds import FOLDS
 from hardclips.heldout import HELDOUT  # scripts/ is on sys.path; hardclips pins one core
 from hardclips.heldout_folds import HELDOUT_FOLDS
+from hardclips.heldout_folds2 import HELDOUT_FOLDS2
 from hardclips.make import make_clip, write_readme
 from hardclips.multi import MULTI
 from hardclips.scenarios import CLIPS
@@ -133,7 +153,7 @@ def parse_args(argv=None):
     parser.add_argument(
         "--only",
         nargs="+",
-        choices=[c.name for c in CLIPS + HELDOUT + MULTI + FOLDS + HELDOUT_FOLDS],
+        choices=[c.name for c in CLIPS + HELDOUT + MULTI + FOLDS + HELDOUT_FOLDS + HELDOUT_FOLDS2],
         help="make only these clips (the held-out, several-doll and fold ones only so)",
     )
     parser.add_argument(
@@ -151,7 +171,8 @@ def main(argv=None):
     if args.only is None:
         clips = CLIPS  # never the held-out clips
     else:
-        clips = [c for c in CLIPS + HELDOUT + MULTI + FOLDS + HELDOUT_FOLDS if c.name in args.only]
+        every = CLIPS + HELDOUT + MULTI + FOLDS + HELDOUT_FOLDS + HELDOUT_FOLDS2
+        clips = [c for c in every if c.name in args.only]
         if any(c in HELDOUT for c in clips) and any(c in CLIPS for c in clips):
             raise SystemExit("make the held-out clips apart from the others, in another folder")
         if any(c in MULTI for c in clips) and any(c not in MULTI for c in clips):
@@ -160,11 +181,13 @@ def main(argv=None):
             raise SystemExit("make the clips of folds apart from the others")
         if any(c in HELDOUT_FOLDS for c in clips) and any(c not in HELDOUT_FOLDS for c in clips):
             raise SystemExit("make the held-out clips of folds apart from the others, elsewhere")
+        if any(c in HELDOUT_FOLDS2 for c in clips) and any(c not in HELDOUT_FOLDS2 for c in clips):
+            raise SystemExit("make the second held-out fold clips apart from the others, elsewhere")
     total = 0.0
     for clip in clips:
         total += make_clip(clip, args.out, args.draft, args.truth_only)
     if not (args.draft or args.truth_only):
-        groups = (HELDOUT, MULTI, FOLDS, HELDOUT_FOLDS)
+        groups = (HELDOUT, MULTI, FOLDS, HELDOUT_FOLDS, HELDOUT_FOLDS2)
         group = next((g for g in groups if clips[0] in g), CLIPS)
         write_readme(args.out, group)
     print(f"rendering took {total:.0f} s in all")

@@ -16,6 +16,7 @@ import numpy as np
 from hardclips.folds import FOLDS, README_FOLDS, visibility_rows
 from hardclips.heldout import HELDOUT
 from hardclips.heldout_folds import HELDOUT_FOLDS, README_HELDOUT_FOLDS
+from hardclips.heldout_folds2 import HELDOUT_FOLDS2, README_HELDOUT_FOLDS2
 from hardclips.multi import MULTI
 from hardclips.scenarios import CLIPS
 from hardclips.scene import HEIGHT, SEED, WIDTH, new_scene
@@ -27,8 +28,11 @@ def clip_number(clip):
     """The clip's number, which seeds its scene.
 
     Its place in ``CLIPS``; held-out clips: 100 + in ``HELDOUT``; several dolls: 200 + in ``MULTI``;
-    folds: 300 + in ``FOLDS``; held-out folds: 400 + in ``HELDOUT_FOLDS``.
+    folds: 300 + in ``FOLDS``; held-out folds: 400 + in ``HELDOUT_FOLDS``, the second batch 500 +
+    in ``HELDOUT_FOLDS2``.
     """
+    if clip in HELDOUT_FOLDS2:
+        return 500 + HELDOUT_FOLDS2.index(clip)
     if clip in HELDOUT_FOLDS:
         return 400 + HELDOUT_FOLDS.index(clip)
     if clip in FOLDS:
@@ -159,7 +163,8 @@ the perspective camera, apart from the others and at rest for three frames.
 def write_readme(out, clips=CLIPS):
     """``out``/README.md: how the clips were made, what they hold, one row per clip.
 
-    ``clips`` is ``CLIPS``, ``HELDOUT``, ``MULTI``, ``FOLDS`` or ``HELDOUT_FOLDS``.
+    ``clips`` is ``CLIPS``, ``HELDOUT``, ``MULTI``, ``FOLDS``, ``HELDOUT_FOLDS`` or
+    ``HELDOUT_FOLDS2``.
     """
     making = MAKING if clips is CLIPS else MAKING_HELDOUT
     rows = []
@@ -182,6 +187,8 @@ def write_readme(out, clips=CLIPS):
         text = README_FOLDS.format(**shared, visibility=visibility_rows(out, clips))
     elif clips is HELDOUT_FOLDS:
         text = README_HELDOUT_FOLDS.format(**shared, visibility=visibility_rows(out, clips))
+    elif clips is HELDOUT_FOLDS2:
+        text = README_HELDOUT_FOLDS2.format(**shared, visibility=visibility_rows(out, clips))
     elif clips is MULTI:
         text = README_MULTI.format(**shared)
     else:
