@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from voodoo_addon.blob.build import build_blob
-from voodoo_addon.devtools.folds import HELDOUT_FOLDS, fold_clips, run_fold_clip
+from voodoo_addon.devtools.folds import HELDOUT_FOLDS, HELDOUT_FOLDS2, fold_clips, run_fold_clip
 from voodoo_addon.devtools.synthetic import Pose, foam_scene, squash_right
 from voodoo_addon.tracking import Tracker
 from voodoo_addon.tracking.quality import folded_triangles
@@ -119,10 +119,36 @@ def test_a_crease_search_presses_the_far_side_of_a_fold(foam, amount):
 
 FOLDS = fold_clips()
 HELD_OUT = fold_clips(HELDOUT_FOLDS)
+HELD_OUT_2 = fold_clips(HELDOUT_FOLDS2)
+#: Where the second held-out batch falls short on its first run (BENCHMARKS.md, *Folds and
+#: turns*), and on which NumPy line: strict, so that a change that mends one has to say so here.
+_NUMPY_1 = int(np.__version__.split(".")[0]) < 2
+SHORT = {
+    "paper_half_fold": (True, "3 frames lost while 40-51% of the sheet is seen, as the flap lifts"),
+    "plush_nod": (
+        _NUMPY_1,
+        "node error 3.33 px against DIS's 3.09 with NumPy 1.26 (2.35 with 2.3)",
+    ),
+}
+
+
+def _judged(clips):
+    return [
+        pytest.param(
+            c, marks=pytest.mark.xfail(SHORT[c.name][0], reason=SHORT[c.name][1], strict=True)
+        )
+        if c.name in SHORT
+        else c
+        for c in clips
+    ]
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("clip", FOLDS + HELD_OUT, ids=[c.name for c in FOLDS + HELD_OUT])
+@pytest.mark.parametrize(
+    "clip",
+    _judged(FOLDS + HELD_OUT + HELD_OUT_2),
+    ids=[c.name for c in FOLDS + HELD_OUT + HELD_OUT_2],
+)
 def test_fold_clip_against_klt_and_dis(clip):
     """On the renders of folds: no folded frame, a smaller node error on the seen nodes
     than KLT's and DIS's, no frame lost while a third of the doll is in view, and the
@@ -132,7 +158,8 @@ def test_fold_clip_against_klt_and_dis(clip):
     (fold_squeeze, sheet_foldover, tail_turn) take 6, 4, 7 frames; with NumPy 2.3 (Blender
     5.2) the last bits of the arithmetic differ and they take 6, 2, 7. The held-out clips
     (cloth_corner_fold, plush_flip, pouch_crush; never tuned on) take 3, 0, 4 frames (NumPy
-    2.3: 3, 0, 3). None loses a frame on either line; BENCHMARKS.md has the figures.
+    2.3: 3, 0, 3). None loses a frame on either line; BENCHMARKS.md has the figures. Of the
+    second held-out batch, two clips fall short (:data:`SHORT`).
     """
     rows = {r["tracker"]: r for r in run_fold_clip(clip)}
     ours = rows["ours"]
@@ -147,6 +174,7 @@ def test_fold_clip_against_klt_and_dis(clip):
 def test_the_fold_clips_are_there():
     assert {c.name for c in FOLDS} >= {"fold_squeeze", "tail_turn", "sheet_foldover"}
     assert {c.name for c in HELD_OUT} >= {"pouch_crush", "plush_flip", "cloth_corner_fold"}
+    assert {c.name for c in HELD_OUT_2} == {"box_side_squeeze", "plush_nod", "paper_half_fold"}
 
 
 def test_a_poorly_fitting_part_counts_as_hidden_only_when_it_lies_on_one_side(foam):
