@@ -178,10 +178,20 @@ def build_pouch_crush(rng, clip):
     return finish_sheet(sheet)
 
 
-def plush(rng, width, height):
-    """A grey and cream plush, low contrast on purpose: grey fur, soft cream patches, hair.
+def two_tone_plush(rng, width, height, fur, patch, patches, tufts, fine):
+    """A low-contrast plush: ``fur`` colour with soft ``patch`` patches, and hair.
 
-    The hair, in tufts and fine hair as in ``folds.fur``, is combed another way.
+    The hair, in tufts and fine hair as in ``folds.fur``, is combed by the angle ranges given.
+
+    Parameters
+    ----------
+    fur, patch : (3,) sRGB
+    patches : (cells, gain, blur)
+        The patches' fractal noise cells, its gain, and the blur of their edges (pixels).
+    tufts : (length, angles, weight)
+        Hair streaks drawn at a quarter size and scaled up, and their share of the shading.
+    fine : (length, angles)
+        Hair streaks at full size.
 
     Returns
     -------
@@ -189,20 +199,38 @@ def plush(rng, width, height):
     """
     shape = (height, width)
     tone = fractal_noise(rng, shape, cells=(3, 6, 12, 24), falloff=0.7)  # (H, W) in [-1, 1]
-    cream = np.clip(0.5 + 1.5 * fractal_noise(rng, shape, cells=(2, 4, 8)), 0.0, 1.0)
-    cream = cv2.GaussianBlur(cream.astype(np.float32), (0, 0), 12)  # soft-edged patches
+    cells, gain, blur = patches
+    share = np.clip(0.5 + gain * fractal_noise(rng, shape, cells=cells), 0.0, 1.0)
+    share = cv2.GaussianBlur(share.astype(np.float32), (0, 0), blur)  # soft-edged patches
     small = (height // 4, width // 4)
-    tufts = cv2.resize(
-        hair_streaks(rng, small, 25, angles=(115.0, 150.0)),
+    length, angles, weight = tufts
+    big = cv2.resize(
+        hair_streaks(rng, small, length, angles=angles),
         (width, height),
         interpolation=cv2.INTER_CUBIC,
     )
-    fine = hair_streaks(rng, shape, 11, angles=(120.0, 145.0))
-    light = 1.0 + 0.05 * tone + 0.05 * tufts + 0.03 * fine  # (H, W) about 1
-    grey, light_cream = np.array((0.60, 0.60, 0.61)), np.array((0.77, 0.72, 0.62))
-    colour = (1 - cream[..., None]) * grey + cream[..., None] * light_cream  # (H, W, 3)
+    thin = hair_streaks(rng, shape, fine[0], angles=fine[1])
+    light = 1.0 + 0.05 * tone + weight * big + 0.03 * thin  # (H, W) about 1
+    colour = (1 - share[..., None]) * np.array(fur) + share[..., None] * np.array(patch)
     image = light[..., None] * colour + 0.01 * rng.standard_normal((*shape, 3))
     return np.clip(cv2.GaussianBlur(image.astype(np.float32), (0, 0), 0.8), 0, 1)
+
+
+def plush(rng, width, height):
+    """A grey and cream plush: grey fur, soft cream patches (see :func:`two_tone_plush`).
+
+    Its hair is combed another way than ``folds.fur``'s.
+    """
+    return two_tone_plush(
+        rng,
+        width,
+        height,
+        fur=(0.60, 0.60, 0.61),
+        patch=(0.77, 0.72, 0.62),
+        patches=((2, 4, 8), 1.5, 12),
+        tufts=(25, (115.0, 150.0), 0.05),
+        fine=(11, (120.0, 145.0)),
+    )
 
 
 PLUSH_PIVOT = 0.85  # plush_flip: the turning axis, right of the sheet's centre

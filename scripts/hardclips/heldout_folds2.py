@@ -60,12 +60,16 @@ from hardclips.folds import (
     add_pushing_hand,
     fold_and_unfold,
     fold_limits,
-    hair_streaks,
     paced_fold,
     plush_on_pivot,
     set_back_colour,
 )
-from hardclips.heldout_folds import BEND_LEFT_AWAY, HAND_DEPTH, diagonal_towards_camera
+from hardclips.heldout_folds import (
+    BEND_LEFT_AWAY,
+    HAND_DEPTH,
+    diagonal_towards_camera,
+    two_tone_plush,
+)
 from hardclips.materials import studio_lights
 from hardclips.scene import Clip
 from hardclips.sheet import (
@@ -215,31 +219,21 @@ def carton_print(rng, width, height):
 
 
 def teddy_plush(rng, width, height):
-    """A honey tan plush with soft cocoa patches, low contrast on purpose, hair combed up and down.
+    """A honey tan plush with soft cocoa patches (see :func:`.heldout_folds.two_tone_plush`).
 
-    The hair, in tufts and fine hair as in ``folds.fur``, runs close to the vertical (in the
-    texture), unlike ``folds.fur`` and ``heldout_folds.plush``.
-
-    Returns
-    -------
-    (height, width, 3) float32 sRGB in [0, 1], rows top-down.
+    Its hair runs close to the vertical (in the texture), unlike ``folds.fur``'s and
+    ``heldout_folds.plush``'s.
     """
-    shape = (height, width)
-    tone = fractal_noise(rng, shape, cells=(3, 6, 12, 24), falloff=0.7)  # (H, W) in [-1, 1]
-    cocoa = np.clip(0.5 + 1.6 * fractal_noise(rng, shape, cells=(3, 6, 12)), 0.0, 1.0)
-    cocoa = cv2.GaussianBlur(cocoa.astype(np.float32), (0, 0), 10)  # soft-edged patches
-    small = (height // 4, width // 4)
-    tufts = cv2.resize(
-        hair_streaks(rng, small, 23, angles=(82.0, 101.0)),
-        (width, height),
-        interpolation=cv2.INTER_CUBIC,
+    return two_tone_plush(
+        rng,
+        width,
+        height,
+        fur=(0.72, 0.56, 0.36),
+        patch=(0.55, 0.40, 0.27),
+        patches=((3, 6, 12), 1.6, 10),
+        tufts=(23, (82.0, 101.0), 0.06),
+        fine=(13, (86.0, 97.0)),
     )
-    fine = hair_streaks(rng, shape, 13, angles=(86.0, 97.0))
-    light = 1.0 + 0.05 * tone + 0.06 * tufts + 0.03 * fine  # (H, W) about 1
-    honey, dark = np.array((0.72, 0.56, 0.36)), np.array((0.55, 0.40, 0.27))
-    colour = (1 - cocoa[..., None]) * honey + cocoa[..., None] * dark  # (H, W, 3)
-    image = light[..., None] * colour + 0.01 * rng.standard_normal((*shape, 3))
-    return np.clip(cv2.GaussianBlur(image.astype(np.float32), (0, 0), 0.8), 0, 1)
 
 
 POSTER_INK = np.array(
