@@ -43,6 +43,7 @@ FOLDS = SAMPLES / "folds"
 HELDOUT_FOLDS = SAMPLES / "heldout_folds"
 #: A second batch of held-out renders, made after the first batch had been run once.
 HELDOUT_FOLDS2 = SAMPLES / "heldout_folds2"
+HELDOUT_ROOTS = (HELDOUT_FOLDS, HELDOUT_FOLDS2)
 #: The doll counts as in view while at least this share of its true lattice is seen.
 THIRD = 1.0 / 3.0
 #: The hidden part is back once this share of the lattice is seen again.
@@ -64,12 +65,12 @@ def fold_clips(root: Path = FOLDS) -> list[Clip]:
 
 def fold_suite() -> list[Clip]:
     """The fold clips the tracker was tuned on, then the held-out ones (both batches)."""
-    return fold_clips(FOLDS) + fold_clips(HELDOUT_FOLDS) + fold_clips(HELDOUT_FOLDS2)
+    return [clip for root in (FOLDS, *HELDOUT_ROOTS) for clip in fold_clips(root)]
 
 
 def held_out(clip: Clip) -> bool:
     folder = clip.video.parent.resolve()
-    return folder in (HELDOUT_FOLDS.resolve(), HELDOUT_FOLDS2.resolve())
+    return any(folder == root.resolve() for root in HELDOUT_ROOTS)
 
 
 def open_area(truth: LatticeTruth) -> np.ndarray:
