@@ -49,13 +49,12 @@ class FoldGuard:
 
     def __init__(self, vertices, triangles, modes, low: float = MIN_AREA, high: float = MAX_AREA):
         v = np.asarray(vertices, np.float64)
-        tri = np.asarray(triangles)
+        tri = np.ascontiguousarray(triangles, dtype=np.int64)  # the kernels' layout
         self.triangles = tri
         k = modes.shape[1]
         phi = np.asarray(modes, np.float64).reshape(-1, 2, k)  # (m, 2, k)
         self._rest_edges = np.stack([v[tri[:, 1]] - v[tri[:, 0]], v[tri[:, 2]] - v[tri[:, 0]]])
         self.e1, self.e2 = self._rest_edges  # (t, 2) each
-        self._corners = np.ascontiguousarray(tri, dtype=np.int64)
         # Edge change per unit mode amplitude, flattened for one matrix product: (2t*2, k).
         d1 = phi[tri[:, 1]] - phi[tri[:, 0]]
         d2 = phi[tri[:, 2]] - phi[tri[:, 0]]
@@ -101,8 +100,8 @@ class FoldGuard:
         if not np.any(step):
             return 1.0
         e, g = np.empty(4 * self.n_tri), np.empty(4 * self.n_tri)
-        kernels.edges(np.ascontiguousarray(shape, dtype=np.float64), self._corners, e)
-        kernels.edges(np.ascontiguousarray(step, dtype=np.float64), self._corners, g)
+        kernels.edges(np.ascontiguousarray(shape, dtype=np.float64), self.triangles, e)
+        kernels.edges(np.ascontiguousarray(step, dtype=np.float64), self.triangles, g)
         return self._bounded(e, g)
 
     def _bounded(self, e: np.ndarray, g: np.ndarray) -> float:
