@@ -211,6 +211,85 @@ def test_the_fit_that_leaves_the_hidden_part_out_wins_on_the_part_in_view():
     assert still_hidden(squeezed, fit(0.40, 0.40, 0.67))
 
 
+def _fingertips(frame, centres, radius=2):
+    """``frame`` with small discs painted over it, each in the colour farthest from what it
+    covers (every channel at 0 or 1): fingertips over part of a few triangles."""
+    out = frame.copy()
+    h, w = out.shape[:2]
+    yy, xx = np.mgrid[:h, :w]
+    painted = np.zeros((h, w), bool)
+    for cx, cy in centres:
+        disc = (xx - cx) ** 2 + (yy - cy) ** 2 <= radius**2
+        out[disc] = (out[disc].mean(axis=0) < 0.5).astype(out.dtype)
+        painted |= disc
+    return out, painted
+
+
+def test_single_pixels_far_off_leave_the_solve_but_not_their_triangles(foam):
+    """Eight fingertips, each over part of a triangle or two: too small a share of them for
+    the triangle test, but their pixels are outliers, left out of the solve; the
+    rest of those triangles stays in. Without the pixel limit, none is left out."""
+    from voodoo_addon.tracking.options import TrackerOptions
+
+    scene, rest, blob = foam
+    c = scene.centre
+    spots = [(c[0] + dx, c[1] + dy) for dx in (-30, -10, 10, 30) for dy in (-12, 12)]
+    frame, painted = _fingertips(rest, spots)
+    for limit in (2.0, 0.0):
+        tracker = Tracker(blob, options=TrackerOptions(pixel_outlier=limit))
+        step = tracker.fitter.levels[0]
+        a = tracker.layout.identity()
+        pictures, origin = tracker.fitter.pyramid(frame, [a], False)
+        org, box = step.bind(pictures[step.index], origin)
+        ev = step.evaluate(a, org, box)
+        level = step.level
+        x, y = np.rint(level.geometry.coords).astype(int).T
+        under = painted[y, x]
+        assert under.sum() > 80
+        if not limit:
+            assert ev.outliers is None
+            continue
+        occluded = ev.occluded_triangles[level.triangle]
+        out = ev.outliers
+        # The painted pixels of the triangles kept are outliers; hardly any other is.
+        assert not occluded[under].any()
+        assert out[under & ~occluded].mean() > 0.8, out[under & ~occluded].mean()
+        assert out[~under].mean() < 0.002
+        assert not ev.use[out].any()
+        # The triangles under the fingertips keep their other pixels in the solve.
+        touched = np.unique(level.triangle[under & ~occluded])
+        kept = ev.use & np.isin(level.triangle, touched)
+        assert kept.sum() > 2 * under.sum()
+        # The pixels found on a fit's first comparison are left out of its later ones.
+        again = step.evaluate(a, org, box, None, ev.occluded_triangles, outliers=out)
+        np.testing.assert_array_equal(again.use, ev.use)
+
+
+def test_a_fit_that_loses_the_doll_does_not_replace_one_that_finds_it(foam):
+    """Between the fits of a frame (the whole doll, the hidden part left out, the rest
+    shape), one that would lose the doll does not win over one that finds it."""
+    from voodoo_addon.tracking.confidence import Quality
+    from voodoo_addon.tracking.fitter import Fit
+
+    _, rest, blob = foam
+    tracker = Tracker(blob)
+    tracker.track(rest)
+    opt = tracker.options
+    near, far = tracker.state.copy(), tracker.state.copy()
+    near[0] += 0.05 * blob.length
+    far[0] += 0.3 * blob.length
+    held_q = Quality(0.2, 0.2, 1.0, 1.0, in_view=opt.lost_below + 0.05, share=0.5)
+    whole_q = Quality(0.21, 0.21, 1.0, 1.0, in_view=opt.lost_below - 0.02, share=1.0)
+    held, whole = Fit(near, 0.2, 1, quality=held_q), Fit(near, 0.21, 1, quality=whole_q)
+    assert tracker._rescues(held, whole) and not tracker._rescues(whole, held)
+    # A fit that leaps far away, below a reacquisition's confidence, is lost too.
+    leap = Fit(far, 0.21, 1, quality=held_q)
+    assert tracker._rescues(held, leap)
+    # Between two fits that both find it (or both lose it), neither rescues.
+    other = Fit(near, 0.3, 1, quality=held_q)
+    assert not tracker._rescues(held, other) and not tracker._rescues(whole, Fit(far, 0.1, 1))
+
+
 def test_a_fit_that_leaps_away_must_be_as_sure_as_a_reacquisition(foam):
     """Just above lost_below is enough near where the doll was, not 0.3 RMS radii away."""
     from voodoo_addon.tracking.confidence import Quality

@@ -78,6 +78,7 @@ def test_blob_options_refuse_out_of_range_values(kwargs):
         {"lost_below": 1.5},
         {"refine_below": -0.1},
         {"pixel_budget": -10},
+        {"pixel_outlier": -1.0},
         {"lighting": "sunny"},
     ],
     ids=str,

@@ -95,6 +95,9 @@ class DifferenceDecomposition:
         ``a -> (m, 2)`` nodes in level-0 pixels (to measure the step).
     guard : FoldGuard, optional
         Cuts every update so that no triangle folds (see :mod:`.folding`).
+    pixel_limit : float
+        Robust error (summed over the channels) above which a single pixel of a kept
+        triangle is an outlier (full resolution only; see :func:`~.evaluation.evaluate`).
     """
 
     def __init__(
@@ -109,8 +112,10 @@ class DifferenceDecomposition:
         floor: float,
         node_positions,
         guard: FoldGuard | None = None,
+        pixel_limit: float = 0.0,
     ):
         self.level = level
+        self.pixel_limit = pixel_limit
         self.guard = guard
         self.layout = layout
         self.backend = backend
@@ -142,6 +147,7 @@ class DifferenceDecomposition:
             self.floor,
             self._nodes,
             self.guard,
+            self.pixel_limit,
         )
 
     def solver(self, active) -> Solver:
@@ -174,7 +180,9 @@ class DifferenceDecomposition:
         hid = self.guard.ratios(a[self.layout.modes]) < HIDE_AREA
         return hid if hid.any() else None
 
-    def evaluate(self, a, org, box, nodes=None, occluded=None, template=None) -> Evaluation | None:
+    def evaluate(
+        self, a, org, box, nodes=None, occluded=None, template=None, outliers=None
+    ) -> Evaluation | None:
         """Warp, sample and compare at ``a`` on the bound picture."""
         return evaluate(
             self.level,
@@ -191,6 +199,8 @@ class DifferenceDecomposition:
             occluded,
             template,
             self.cover,
+            outliers,
+            self.pixel_limit,
         )
 
     def fit(
@@ -244,15 +254,16 @@ class DifferenceDecomposition:
         nodes_a = self._nodes(a)
         its = 0
         full = level.index == 0  # level nodes are frame nodes: reuse them
-        # Found once per fit, on the first evaluation close enough to tell (unless given).
-        occluded = covered
+        # Found once per fit, on the first evaluation close enough to tell (unless given):
+        # the occluded triangles and the outlying pixels of the others.
+        occluded, outliers = covered, None
         for _ in range(cap or stopping.max_iterations):
-            ev = self.evaluate(a, org, box, nodes_a if full else None, occluded, template)
+            ev = self.evaluate(a, org, box, nodes_a if full else None, occluded, template, outliers)
             its += 1
             if ev is None:
                 break
             if occluded is None:
-                occluded = ev.occluded_triangles
+                occluded, outliers = ev.occluded_triangles, ev.outliers
             if best is not None:
                 if ev.residual > best.residual and ev.weighted == best.weighted:
                     break  # got worse: keep the previous estimate

@@ -11,6 +11,10 @@ Eq. 16 robust values, and decides which triangles take part in the solve:
 - *occluded* (finest level only): its robust error is far above the median triangle's, or
   its lighting patch correlates poorly with the template while the typical patch correlates
   well (a hand over it, a card: no lighting change makes them look like the template).
+
+Within the triangles kept, single pixels whose robust error is far off (*outliers*, found at
+the same time) leave the solve too: fingertips over part of a faintly textured triangle raise
+its mean error too little for the triangle test, yet pull the nodes off the doll.
 """
 
 from __future__ import annotations
@@ -46,6 +50,12 @@ IN_VIEW_CORRELATION = 0.85
 #: Per-channel robust error at which the compared residual saturates: the Lorentzian's value
 #: at three sigma (an error that large counts the same, however large).
 LOSS_CAP = float(np.log1p(4.5))
+#: Single pixels of the kept triangles whose robust error is above the tracker's pixel limit
+#: (``TrackerOptions.pixel_outlier``) are left out too -- fingertips over the edge of a
+#: triangle, a crease's shadow -- but only when at least this many of them are, and this
+#: share of the level's pixels: a handful of outliers is noise the norm already bounds.
+MIN_OUTLIERS = 20
+OUTLIER_SHARE = 0.002
 _ONES3 = np.ones(3, dtype=np.float32)
 _ZEROS3 = np.zeros(3, dtype=np.float32)
 
@@ -76,6 +86,8 @@ class Evaluation:
         The triangles left out as hidden (compressed), as given.
     difference : (n, 3) float32
         Template minus frame with the lighting removed, before the robust transform.
+    outliers : (n,) bool or None
+        Single pixels of the kept triangles left out (found by this evaluation or given).
     """
 
     samples: np.ndarray
@@ -88,6 +100,7 @@ class Evaluation:
     occluded_triangles: np.ndarray | None = None
     hidden: np.ndarray | None = None
     difference: np.ndarray | None = None
+    outliers: np.ndarray | None = None
     _dbar: np.ndarray | None = field(default=None, repr=False)
 
     @property
@@ -124,6 +137,8 @@ def evaluate(
     occluded: np.ndarray | None = None,
     template: np.ndarray | None = None,
     cover: Cover | None = None,
+    outliers: np.ndarray | None = None,
+    pixel_limit: float = 0.0,
 ) -> Evaluation | None:
     """Warp, sample and compare at ``a``: the robust difference image (Eq. 12, 16).
 
@@ -153,6 +168,11 @@ def evaluate(
     cover : Cover, optional
         Frame pixels where something known is in front (another doll): the template pixels
         landing there count as off the picture.
+    outliers : (n,) bool, optional
+        Pixels already found to be outliers in this frame (with ``occluded``): left out.
+    pixel_limit : float
+        With the occlusion test, pixels of the kept triangles whose robust error (summed
+        over the channels) exceeds this are outliers (see :data:`MIN_OUTLIERS`); 0: none.
 
     Returns
     -------
@@ -214,11 +234,18 @@ def evaluate(
             weight[out] = 0.0
             detected = out
         use = _used(level, mask, weight)
+        if most > 0.0 and pixel_limit > 0.0:
+            bad = use & (compare.loss > pixel_limit)  # the loss of the first comparison
+            if np.count_nonzero(bad) >= max(MIN_OUTLIERS, OUTLIER_SHARE * n):
+                use = use & ~bad
+                outliers = bad
         if use is not mask and level.patches is not None:
             # The lighting of the patches that lost pixels is fitted again without them.
             compare(use, correlate=False)
     else:
         use = _used(level, mask, weight)
+        if outliers is not None:
+            use = use & ~outliers
         # With lighting patches, the pixels left out are fitted without at once (what
         # comparing all and then again without them would give).
         compare(use if level.patches is not None else mask, correlate=False)
@@ -241,6 +268,7 @@ def evaluate(
         detected,
         hidden,
         compare.diff,
+        outliers,
     )
 
 

@@ -123,6 +123,7 @@ class CoarseToFineFitter:
                 floor,
                 self.nodes,
                 self.guard,
+                opt.pixel_outlier,
             )
             for lv in levels
         ]

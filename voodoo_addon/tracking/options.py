@@ -49,6 +49,13 @@ class TrackerOptions:
     outlier_factor : float
         A triangle whose mean robust error exceeds this many times the median triangle's
         is treated as occluded for the iteration.
+    pixel_outlier : float
+        When above 0, a pixel of the triangles kept whose robust error (Eq. 9, summed over
+        the three channels) exceeds this is left out of the solve too, when enough are
+        (fingertips over part of a triangle). 2.0 is one channel about 3.6 sigma off, or
+        all three about 1.4 sigma. Off (0) by default: at 2.0 a hand pressing on a faintly
+        textured doll no longer pushes the mesh off it, but crumpled paper and fast, blurred
+        motion are followed less well (BENCHMARKS.md, *Folds and turns*).
     lost_below : float
         A frame whose confidence falls below this is lost.
     reacquire_above : float
@@ -80,6 +87,7 @@ class TrackerOptions:
     fine_capture: float = 1.0
     pixel_budget: int | None = 20000
     outlier_factor: float = 8.0
+    pixel_outlier: float = 0.0
     lost_below: float = 0.15
     reacquire_above: float = 0.3
     predict: bool = True
@@ -104,6 +112,7 @@ class TrackerOptions:
             "step_tolerance": finite(self.step_tolerance, "the step tolerance", 0.0),
             "fine_capture": finite(self.fine_capture, "the fine capture distance", 0.0),
             "outlier_factor": finite(self.outlier_factor, "the outlier factor", 0.0, low_open=True),
+            "pixel_outlier": finite(self.pixel_outlier, "the pixel outlier limit", 0.0),
         }
         if self.pixel_budget is not None:
             numbers["pixel_budget"] = whole(self.pixel_budget, "the pixel budget", 0)

@@ -182,11 +182,13 @@ class LocalRefiner:
         # back as far as needed for no triangle to fold there.
         u = self.guard.shape_step(bare, offsets) * offsets
         sub_template = None if template is None else np.ascontiguousarray(template[self.rows])
-        best, occluded = None, covered
+        best, occluded, outliers = None, covered, None
 
         def compare(u):
             nodes = self._nodes(a, u) * level.scale
-            ev = self.sub_step.evaluate(a, org, box, nodes, occluded, template=sub_template)
+            ev = self.sub_step.evaluate(
+                a, org, box, nodes, occluded, template=sub_template, outliers=outliers
+            )
             return nodes, ev
 
         for _ in range(ITERATIONS):
@@ -194,7 +196,7 @@ class LocalRefiner:
             if ev is None:
                 break
             if occluded is None:
-                occluded = ev.occluded_triangles
+                occluded, outliers = ev.occluded_triangles, ev.outliers
             if best is not None and ev.residual >= best[1].residual:
                 break
             best = (u, ev)

@@ -339,15 +339,23 @@ class Tracker:
         if fit.in_view < opt.propose_below and covered is not None:
             held = self._fit(frame, [fit.params], covered=covered)
             its += held.iterations
-            if still_hidden(fit, held):
+            if still_hidden(fit, held) or self._rescues(held, fit):
                 fit = held
         if self._hidden.triangles is not None and fit.confidence < opt.refine_below:
             rest = at_rest(fit.params, self.layout, self.frozen)
             back = self._fit(frame, [rest], trial=True)
             its += back.iterations
-            if returned(fit, back):
+            if returned(fit, back) and not self._rescues(fit, back):
                 fit = back
         return fit, its
+
+    def _rescues(self, fit: Fit, other: Fit) -> bool:
+        """``fit`` finds the doll in this frame and ``other`` would lose it."""
+        if fit.quality is None:
+            return False
+        if other.quality is None:
+            return self._found(fit, fit.quality)
+        return self._found(fit, fit.quality) and not self._found(other, other.quality)
 
     def _keep_frozen(self, guess: np.ndarray) -> np.ndarray:
         frozen = list(self.frozen)
