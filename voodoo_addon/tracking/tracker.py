@@ -351,11 +351,11 @@ class Tracker:
 
     def _rescues(self, fit: Fit, other: Fit) -> bool:
         """``fit`` finds the doll in this frame and ``other`` would lose it."""
-        if fit.quality is None:
-            return False
-        if other.quality is None:
-            return self._found(fit, fit.quality)
-        return self._found(fit, fit.quality) and not self._found(other, other.quality)
+        return self._finds(fit) and not self._finds(other)
+
+    def _finds(self, fit: Fit) -> bool:
+        """:meth:`_found` on the fit's own quality (a fit without one finds nothing)."""
+        return fit.quality is not None and self._found(fit, fit.quality)
 
     def _keep_frozen(self, guess: np.ndarray) -> np.ndarray:
         frozen = list(self.frozen)
