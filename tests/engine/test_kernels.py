@@ -145,3 +145,14 @@ def test_pixels_of_kept_triangles_and_counts_per_triangle():
     count = np.empty(9)
     kernels.count_per_triangle(mask, triangle, count)
     np.testing.assert_array_equal(count, np.bincount(triangle, weights=mask, minlength=9))
+
+
+def test_channel_sums_are_the_bincounts_they_replace_to_the_last_bit():
+    key = RNG.integers(0, 30, 400).astype(np.int64)
+    t, s = RNG.uniform(0, 1, 400), RNG.uniform(0, 1, 400)
+    use = (RNG.uniform(size=400) > 0.3).astype(np.float64)
+    out = np.empty((6, 32))
+    kernels.channel_sums(key, t, s, use, out)
+    su = s * use
+    for row, weights in enumerate((use, use * t, use * t * t, su, su * su, t * su)):
+        np.testing.assert_array_equal(out[row], np.bincount(key, weights, minlength=32))

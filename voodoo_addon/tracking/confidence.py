@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import kernels
 from .decomposition import Evaluation
 from .level import Level
 from .params import ParamLayout
@@ -103,7 +104,6 @@ class QualityMeter:
         self.size = self.n_tri * self.channels
         ones = np.ones_like(self.t)
         count, mean, var = self._stats(ones, self.t)
-        self._all = (count, mean, var)  # the template's statistics when every pixel is used
         ok = count >= MIN_PIXELS
         # Texture weight of each triangle-channel: its pixels times its contrast, the
         # contrast capped at the median so that a few high-contrast spots do not rule.
@@ -122,14 +122,6 @@ class QualityMeter:
 
     def __call__(self, ev: Evaluation, a: np.ndarray) -> Quality:
         """The quality of the evaluation ``ev``, made at parameters ``a``."""
-        s = ev.samples[:: self.step].astype(np.float64)
-        lay = self.layout
-        if lay.photometric != "none":
-            b, log_c = a[lay.brightness], a[lay.contrast]
-            if np.abs(log_c).max() > 1e-3 or np.abs(b).max() > 1e-3:
-                s = (s - b) / np.exp(log_c)
-        s = s.ravel()
-        t = self.t
         # Every triangle on the picture and not turned away is judged for ``value`` -- the
         # ones the fit left out as covered too: a fit that explains half of the doll and
         # calls the other half covered has not shown that it is right. ``in_view`` judges
@@ -137,17 +129,30 @@ class QualityMeter:
         # through the view factor, and calling the rest covered needs the part in view to
         # fit well first (see ``evaluation._coverable``).
         compared = ev.valid if ev.hidden is None else ev.valid & ~ev.hidden[self._triangle]
-        if compared is not ev.valid or not ev.valid.all():
-            use = np.repeat(compared[:: self.step].astype(np.float64), self.channels)
-            count, mt, vt = self._stats(use, t)
-            s = s * use
-        else:
-            count, mt, vt = self._all
-        s_sum = np.bincount(self.key, weights=s, minlength=self.size)
-        s_sq = np.bincount(self.key, weights=s * s, minlength=self.size)
+        return self.measure(ev.samples[:: self.step], compared[:: self.step], a, ev.triangle_weight)
+
+    def measure(self, samples, compared, a, kept=None) -> Quality:
+        """The quality from the frame's colours at the meter's own pixels.
+
+        ``samples`` (n', 3) and ``compared`` (n',) bool: every :attr:`step`-th pixel of the
+        level (on the picture and not turned away). ``kept`` (t,): the triangles the fit
+        kept (``Evaluation.triangle_weight``); without it ``in_view`` is ``value``.
+        """
+        s = samples.astype(np.float64)
+        lay = self.layout
+        if lay.photometric != "none":
+            b, log_c = a[lay.brightness], a[lay.contrast]
+            if np.abs(log_c).max() > 1e-3 or np.abs(b).max() > 1e-3:
+                s = (s - b) / np.exp(log_c)
+        t = self.t
+        sums = np.empty((6, self.size))
+        use = np.repeat(compared.astype(np.float64), self.channels)
+        kernels.channel_sums(self.key, t, s.ravel(), use, sums)
+        count, t_sum, t_sq, s_sum, s_sq, cross = sums
+        mt = t_sum / np.maximum(count, 1.0)
+        vt = np.maximum(t_sq / np.maximum(count, 1.0) - mt * mt, 0.0)
         ms = s_sum / np.maximum(count, 1.0)
         vs = np.maximum(s_sq / np.maximum(count, 1.0) - ms * ms, 0.0)
-        cross = np.bincount(self.key, weights=t * s, minlength=self.size)
         cov = cross / np.maximum(count, 1.0) - mt * ms
         den = np.sqrt(vt * vs)
         ok = (count >= MIN_PIXELS) & (den > 1e-9) & (self.weight > 0)
@@ -167,8 +172,8 @@ class QualityMeter:
         poor_share = float(tri_w[poor].sum()) / self.total
         colour = self._colour_agreement(ms.reshape(self.n_tri, self.channels), count)
         value = max(corr, 0.0) * colour * min(1.0, seen / FULL_VIEW)
-        kept = ev.triangle_weight > 0
-        if kept.all():
+        kept = None if kept is None else kept > 0
+        if kept is None or kept.all():
             return Quality(float(value), corr, seen, colour, float(value), seen, poor, poor_share)
         w = w * np.repeat(kept, self.channels)
         share = float(w.sum()) / self.total

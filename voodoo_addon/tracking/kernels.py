@@ -138,6 +138,30 @@ def project(samples, target, gain, bias, template, starts, mask, textured, diff,
                     diff[i, ch] = 0.0
 
 
+@nb.njit("void(int64[::1], float64[::1], float64[::1], float64[::1], float64[:, ::1])", **_OPTS)
+def channel_sums(key, t, s, use, out):
+    """The sums the quality's correlations need, per triangle-channel ``key``, into ``out``.
+
+    Rows of ``out`` (6, size): the used pixels (``use``, 0 or 1), ``use t``, ``use t t``,
+    ``s'``, ``s' s'`` and ``t s'``, where ``s' = use s``: what ``np.bincount`` would give for
+    each, summed in the same order.
+    """
+    for r in range(out.shape[0]):
+        for k in range(out.shape[1]):
+            out[r, k] = 0.0
+    for i in range(key.shape[0]):
+        k = key[i]
+        u = use[i]
+        ut = u * t[i]
+        su = s[i] * u
+        out[0, k] += u
+        out[1, k] += ut
+        out[2, k] += ut * t[i]
+        out[3, k] += su
+        out[4, k] += su * su
+        out[5, k] += t[i] * su
+
+
 @nb.njit("int64(float32[:, ::1], float32, float32, boolean[::1])", **_OPTS)
 def on_picture(positions, bx, by, valid):
     """Which positions (2, n_pad) lie on the picture ``[0, bx] x [0, by]``; how many do.
