@@ -541,3 +541,72 @@ def test_the_rest_shape_is_tried_as_a_trial_after_a_part_was_hidden(monkeypatch)
     back = tracker.track(rest)
     assert trials.count(True) == 1
     assert back.visible.all() and back.confidence > 0.95
+
+
+def _refined_frame(take, at=6):
+    """A tracker run up to frame ``at`` and its modal fit of that frame."""
+    tracker = Tracker(take.blob)
+    for frame in take.frames[:at]:
+        tracker.track(frame)
+    fit = tracker.fitter.fit(take.frames[at], [tracker.state], False, None, checked=True)
+    return tracker, fit
+
+
+def test_an_iterates_confidence_read_on_the_meters_pixels_is_the_full_comparisons():
+    """The local stage judges an iterate on the quality meter's own pixels only: that must
+    be the very confidence comparing every pixel gives, also with part of the doll off the
+    picture."""
+    take = scenario("mixed")
+    tracker, fit = _refined_frame(take)
+    fitter, refiner = tracker.fitter, tracker.fitter.refiner
+    step = refiner.step_
+    images, origin = fit.pictures
+    org, box = step.bind(images[step.index], origin)
+    offsets = np.random.default_rng(5).normal(0.0, 1.0, take.blob.vertices.shape)
+    # Moved right until part of it leaves the picture the fit bound.
+    width = images[step.index].shape[1] / step.level.scale
+    partly_off = False
+    for shift in np.linspace(0.0, width, 9):
+        a = fit.params.copy()
+        a[0] += shift
+        nodes = fitter.nodes(a, offsets) * step.level.scale
+        ev = step.evaluate(a, org, box, nodes)
+        if ev is None:
+            break
+        partly_off |= not ev.valid.all()
+        assert refiner.value(a, org, box, nodes) == fitter.quality(ev, a).value
+    assert partly_off
+
+
+def test_a_local_stage_that_cannot_reach_the_confidence_needed_stops_after_two_steps(
+    monkeypatch,
+):
+    """A run still far from what its caller needs after JUDGED_AFTER steps makes no more
+    (and gives nothing); without a need, or with one it meets, it runs as before."""
+    from voodoo_addon.tracking import refine as refine_module
+
+    take = scenario("mixed")
+    tracker, fit = _refined_frame(take)
+    refiner = tracker.fitter.refiner
+    compared = []
+    evaluate = refiner.sub_step.evaluate
+
+    def counting(*args, **kwargs):
+        compared.append(1)
+        return evaluate(*args, **kwargs)
+
+    monkeypatch.setattr(refiner.sub_step, "evaluate", counting)
+    # Offsets a few pixels off take several steps to settle.
+    start = np.random.default_rng(2).normal(0.0, 2.0, take.blob.vertices.shape)
+
+    def run(needed):
+        compared.clear()
+        out = refiner.run(fit.params, fit.confidence, fit.pictures, start, needed=needed)
+        return out, len(compared)
+
+    free, steps = run(None)
+    assert free is not None and steps > refine_module.JUDGED_AFTER + 1
+    out, _ = run(free[1].value - 0.01)  # a need it meets
+    np.testing.assert_array_equal(out[0], free[0])
+    out, steps = run(free[1].value + refine_module.STILL_TO_GAIN + 0.01)
+    assert out is None and steps == refine_module.JUDGED_AFTER + 1

@@ -182,20 +182,10 @@ def evaluate(
     n = len(level)
     if nodes is None:
         nodes = level.nodes(a)
-    pos = level.positions(a, nodes)
-    pos -= origin[:, None]
-    valid = np.empty(n, bool)
-    on = kernels.on_picture(pos, box[0], box[1], valid)
-    if on == n:
-        valid = None
-    if cover is not None:
-        free = cover.free(pos[0, :n] + origin[0], pos[1, :n] + origin[1], level.scale)
-        if free is not None:
-            valid = free if valid is None else valid & free
-            on = np.count_nonzero(valid)
-    if on < 0.15 * n:
+    found = sample(level, a, origin, box, backend, nodes, cover)
+    if found is None:
         return None
-    samples = backend.sample(level.geometry, nodes - origin, pos)
+    samples, valid = found
     valid_all = valid is None
     if valid_all:
         valid = level.all_valid
@@ -270,6 +260,30 @@ def evaluate(
         compare.diff,
         outliers,
     )
+
+
+def sample(level: Level, a, origin, box, backend: WarpBackend, nodes, cover=None):
+    """The frame at the level's pixels warped by ``a`` (``nodes``: ``level.nodes(a)``).
+
+    Returns (samples (n, 3) float32, valid (n,) bool or None when every pixel is on the
+    picture and not covered), or None when fewer than 15% are. The arguments are
+    :func:`evaluate`'s.
+    """
+    n = len(level)
+    pos = level.positions(a, nodes)
+    pos -= origin[:, None]
+    valid = np.empty(n, bool)
+    on = kernels.on_picture(pos, box[0], box[1], valid)
+    if on == n:
+        valid = None
+    if cover is not None:
+        free = cover.free(pos[0, :n] + origin[0], pos[1, :n] + origin[1], level.scale)
+        if free is not None:
+            valid = free if valid is None else valid & free
+            on = np.count_nonzero(valid)
+    if on < 0.15 * n:
+        return None
+    return backend.sample(level.geometry, nodes - origin, pos), valid
 
 
 class Cover:

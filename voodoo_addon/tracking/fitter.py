@@ -315,13 +315,14 @@ class CoarseToFineFitter:
             covered=covered,
         )
 
-    def refine(self, fit: Fit, offsets: np.ndarray, template=None):
+    def refine(self, fit: Fit, offsets: np.ndarray, template=None, needed=None):
         """The local stage from ``offsets`` (m, 2) on a fit's frame (see :mod:`.refine`).
 
-        Returns (offsets, quality, evaluation), or None when nothing could be compared.
+        Returns (offsets, quality, evaluation), or None when nothing could be compared (or
+        the offsets cannot reach the confidence ``needed``).
         """
         return self.refiner.run(
-            fit.params, fit.confidence, fit.pictures, offsets, template, fit.covered
+            fit.params, fit.confidence, fit.pictures, offsets, template, fit.covered, needed
         )
 
     def crease(self, fit: Fit, offsets: np.ndarray, template=None):

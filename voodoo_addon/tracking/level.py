@@ -118,15 +118,16 @@ class Level:
     def __len__(self) -> int:
         return len(self.geometry.coords)
 
-    def every(self, step: int) -> tuple[Level, np.ndarray]:
+    def every(self, step: int, patches: bool = True) -> tuple[Level, np.ndarray]:
         """The level on every ``step``-th of its pixels, and their rows (n',) in this one.
 
         The pixels stay grouped by lighting patch, so the subset keeps the patches (each
         with about a ``step``-th of its pixels, and at least its first); the texture, mesh
-        and modes are shared.
+        and modes are shared. Without ``patches`` the rows are exactly every ``step``-th and
+        the subset has no lighting patches (for sampling only).
         """
         rows = np.arange(0, len(self), max(int(step), 1))
-        if self.patches is not None:
+        if self.patches is not None and patches:
             rows = np.union1d(rows, self.patches.starts)
         sub = copy.copy(self)
         g = self.geometry
@@ -134,8 +135,8 @@ class Level:
             g.vertices, g.triangles, g.coords[rows], g.triangle[rows], g.weights[rows]
         )
         sub.template = np.ascontiguousarray(self.template[rows])
-        if self.patches is not None:
-            sub.patches = Patches(self.patches.of_pixel[rows], sub.template)
+        if sub.patches is not None:
+            sub.patches = Patches(self.patches.of_pixel[rows], sub.template) if patches else None
         sub.n_pad = padded(len(rows))
         sub.corners = np.ascontiguousarray(self.corners[rows])
         sub.weights = np.ascontiguousarray(self.weights[rows])

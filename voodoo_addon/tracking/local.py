@@ -95,7 +95,7 @@ class LocalStage:
         start = np.zeros_like(self.fitter.blob.vertices) if self.offsets is None else self.offsets
         out = None
         if fit.confidence < HOPELESS_ABOVE:
-            out = self.fitter.refine(fit, start, self.template)
+            out = self.fitter.refine(fit, start, self.template, fit.confidence + REFINE_GAIN)
         if out is None or out[1].value < fit.confidence + REFINE_GAIN:
             self.offsets = self.kept_base(fit.params)
             quality, visible, ev = fit.quality, fit.visible, None
