@@ -610,3 +610,36 @@ def test_a_local_stage_that_cannot_reach_the_confidence_needed_stops_after_two_s
     np.testing.assert_array_equal(out[0], free[0])
     out, steps = run(free[1].value + refine_module.STILL_TO_GAIN + 0.01)
     assert out is None and steps == refine_module.JUDGED_AFTER + 1
+
+
+def test_points_followed_on_the_helper_thread_give_the_track_followed_in_line(monkeypatch):
+    """After a poor frame the points since the last frame are followed on a helper thread
+    while the frame is fitted. The track is the one following them in line gives, and no
+    helper is still reading a frame when ``track`` returns (a camera may refill it)."""
+    import threading
+
+    take = scenario("mixed")
+    options = TrackerOptions(propose_below=1.0)  # every frame asks for the points
+    ahead, inline = Tracker(take.blob, options=options), Tracker(take.blob, options=options)
+    monkeypatch.setattr(inline, "_follow_ahead", lambda frame: None)
+    running, threads = [], []
+    propose = ahead._motion.propose
+
+    def recording(*args):
+        running.append(1)
+        threads.append(threading.current_thread().name)
+        try:
+            return propose(*args)
+        finally:
+            running.pop()
+
+    monkeypatch.setattr(ahead._motion, "propose", recording)
+    for frame in take.frames:
+        a, b = ahead.track(frame), inline.track(frame)
+        assert not running
+        np.testing.assert_array_equal(a.nodes, b.nodes)
+        assert a.confidence == b.confidence
+    # The first frame fits perfectly, so the second follows its points in line; from then
+    # on every frame's are followed ahead.
+    assert len(threads) >= len(take.frames) - 2
+    assert all(name.startswith("voodoo-points") for name in threads[1:]), threads

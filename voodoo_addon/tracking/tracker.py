@@ -8,6 +8,7 @@ finding it again -- and leaves the registration of one frame to
 
 from __future__ import annotations
 
+from concurrent.futures import Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -114,6 +115,7 @@ class Tracker:
         self.frame_size = tuple(int(v) for v in blob.frame_size)
         self._matcher = FeatureMatcher(blob, self.layout) if opt.features else None
         self._motion = MotionProposal(blob, self.layout)
+        self._helper: ThreadPoolExecutor | None = None  # follows points beside the fit
         self._hidden = HiddenPart(blob.vertices, blob.triangles)
         self._local = LocalStage(self.fitter, self.layout, opt)
         self.set_frozen(frozen)
@@ -154,6 +156,7 @@ class Tracker:
         self._last_residual = None
         self._previous = None
         self._futile = np.inf
+        self._points_likely = False
         self._local.reset()
         self.fitter.set_base(None)
         self._hidden.forget()
@@ -186,9 +189,27 @@ class Tracker:
         self.fitter.pictures.forget()  # a camera may refill the same buffer
         self.fitter.set_cover(cover)
         with single_blas_thread():
-            return self._track(frame)
+            pending = None if self.lost else self._follow_ahead(frame)
+            try:
+                return self._track(frame, pending)
+            finally:
+                if pending is not None:
+                    wait([pending])  # it reads the frames: done before they are handed back
 
-    def _track(self, frame: np.ndarray) -> TrackResult:
+    def _follow_ahead(self, frame: np.ndarray) -> Future | None:
+        """Start following the points since the last frame on a helper thread.
+
+        Only when the last frame's fit was poor enough to ask for them: this one likely
+        will too (see :meth:`_motion_start`), and on a second core they are ready when the
+        fit is. What they give does not depend on when they are followed.
+        """
+        if not self._points_likely or self._previous is None:
+            return None
+        if self._helper is None:
+            self._helper = ThreadPoolExecutor(1, thread_name_prefix="voodoo-points")
+        return self._helper.submit(self._motion.propose, self._previous, frame, self.state.copy())
+
+    def _track(self, frame: np.ndarray, pending: Future | None = None) -> TrackResult:
         opt = self.options
         was_lost = self.lost
         need = opt.reacquire_above if was_lost else opt.lost_below
@@ -219,8 +240,9 @@ class Tracker:
         # features are in this one (the costliest start: a merely mediocre fit, as on a
         # surface the modes cannot quite follow, does not call for it).
         tried_features = False
-        if not was_lost and fit.confidence < opt.propose_below:
-            guess = self._motion_start(frame)
+        self._points_likely = not was_lost and fit.confidence < opt.propose_below
+        if self._points_likely:
+            guess = self._motion_start(frame, pending)
             if guess is not None:
                 fit, its = self._better(fit, self._fit(frame, [guess]), its)
             below = opt.propose_below if guess is None else FEATURES_BELOW
@@ -362,11 +384,17 @@ class Tracker:
         guess[frozen] = self.state[frozen]
         return guess
 
-    def _motion_start(self, frame, was_lost=False):
-        """A pose from the points followed since the previous frame, frozen parameters kept."""
+    def _motion_start(self, frame, pending: Future | None = None):
+        """A pose from the points followed since the previous frame, frozen parameters kept.
+
+        ``pending``: the same, started on the helper thread (see :meth:`_follow_ahead`).
+        """
         if self._previous is None:
             return None
-        guess = self._motion.propose(self._previous, frame, self.state)
+        if pending is not None:
+            guess = pending.result()
+        else:
+            guess = self._motion.propose(self._previous, frame, self.state)
         return None if guess is None else self._keep_frozen(guess)
 
     def _wide_start(self, frame, was_lost):
