@@ -125,31 +125,36 @@ def sections(report: dict) -> dict:
     from .bench import format_speed
 
     head = f"Measured {report.get('date', '')} on {report.get('machine', '?')}."
+    # How the tracker's own timings ran (see ``Tracker._follow_ahead``).
+    one = (
+        "One thread for the arithmetic (BLAS, OpenCV, Numba); after a poor frame the tracker"
+        " follows the next frame's points on a helper thread."
+    )
     out = {}
     if "speed" in report:
         out["speed"] = (
-            f"{head} One thread.\n\n```sh\npython -m voodoo_addon bench --only speed\n```\n\n"
+            f"{head} {one}\n\n```sh\npython -m voodoo_addon bench --only speed\n```\n\n"
             + format_speed(report["speed"])
         )
     if "live" in report:
         from .livespeed import format_live
 
         out["live"] = (
-            f"{head} One thread.\n\n```sh\npython -m voodoo_addon bench --only live\n```\n\n"
+            f"{head} {one}\n\n```sh\npython -m voodoo_addon bench --only live\n```\n\n"
             + format_live(report["live"])
         )
     if "dolls" in report:
         from .dolls import format_dolls
 
         out["dolls"] = (
-            f"{head} One thread.\n\n```sh\npython -m voodoo_addon bench --only dolls\n```\n\n"
+            f"{head} {one}\n\n```sh\npython -m voodoo_addon bench --only dolls\n```\n\n"
             + format_dolls(report["dolls"])
         )
     if "folds" in report:
         from .folds import format_folds
 
         out["folds"] = (
-            f"{head} One thread.\n\n```sh\npython -m voodoo_addon bench --only folds\n```\n\n"
+            f"{head} {one}\n\n```sh\npython -m voodoo_addon bench --only folds\n```\n\n"
             + format_folds(report["folds"])
         )
     if "osc" in report:
@@ -163,7 +168,7 @@ def sections(report: dict) -> dict:
         from .clips import format_rows
 
         out["clips"] = (
-            f"{head} One thread.\n\n```sh\npython -m voodoo_addon bench --only clips\n```\n\n"
+            f"{head} {one}\n\n```sh\npython -m voodoo_addon bench --only clips\n```\n\n"
             + format_rows(report["clips"]["rows"])
         )
     if "calibration" in report:
