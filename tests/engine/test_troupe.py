@@ -294,6 +294,22 @@ def test_a_cover_frees_what_lies_outside_it_at_every_level():
     assert cover.free(np.array([100.0]), np.array([100.0]), 1) is None  # far away: nothing
 
 
+def test_what_covers_a_doll_reaches_every_comparison_of_it(two_dolls):
+    """The fit's levels, the local stage and the crease search all compare the doll's pixels:
+    each must leave out what another doll covers."""
+    from voodoo_addon.tracking import Tracker
+    from voodoo_addon.tracking.evaluation import Cover
+
+    _, blobs, _, _ = two_dolls
+    fitter = Tracker(blobs["left"]).fitter
+    cover = Cover(np.ones((4, 4), bool), (0, 0))
+    fitter.set_cover(cover)
+    steps = [*fitter.levels, fitter.refiner.sub_step, fitter.creases.step]
+    assert all(step.cover is cover for step in steps)
+    fitter.set_cover(None)
+    assert all(step.cover is None for step in steps)
+
+
 def test_a_doll_that_jumps_onto_another_does_not_drag_it():
     """First contact at 30 px a frame: the order is only known once they overlap."""
 

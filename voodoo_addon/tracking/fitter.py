@@ -142,7 +142,7 @@ class CoarseToFineFitter:
 
     def set_cover(self, cover) -> None:
         """What covers the blob in the next frames (a ``Cover``, or None: nothing known)."""
-        for step in (*self.levels, self.refiner.sub_step):
+        for step in (*self.levels, self.refiner.sub_step, self.creases.step):
             if step is not None:
                 step.cover = cover
 
