@@ -574,7 +574,7 @@ def test_an_iterates_confidence_read_on_the_meters_pixels_is_the_full_comparison
         if ev is None:
             break
         partly_off |= not ev.valid.all()
-        assert refiner.value(a, org, box, nodes) == fitter.quality(ev, a).value
+        assert refiner.value(a, org, box, nodes, ev.hidden) == fitter.quality(ev, a).value
     assert partly_off
 
 

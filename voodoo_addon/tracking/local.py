@@ -93,10 +93,10 @@ class LocalStage:
             self.offsets = self.kept_base(fit.params)  # the crease followed, if any
             return fit.quality, fit.visible, None
         start = np.zeros_like(self.fitter.blob.vertices) if self.offsets is None else self.offsets
-        out = None
+        out, needed = None, fit.confidence + REFINE_GAIN
         if fit.confidence < HOPELESS_ABOVE:
-            out = self.fitter.refine(fit, start, self.template, fit.confidence + REFINE_GAIN)
-        if out is None or out[1].value < fit.confidence + REFINE_GAIN:
+            out = self.fitter.refine(fit, start, self.template, needed)
+        if out is None or out[1].value < needed:
             self.offsets = self.kept_base(fit.params)
             quality, visible, ev = fit.quality, fit.visible, None
         else:

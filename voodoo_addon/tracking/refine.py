@@ -215,7 +215,7 @@ class LocalRefiner:
                 break
             best = (u, ev)
             if steps == JUDGED_AFTER and needed is not None:
-                if self.value(a, org, box, nodes) < needed - STILL_TO_GAIN:
+                if self.value(a, org, box, nodes, ev.hidden) < needed - STILL_TO_GAIN:
                     return None
             grads = self.sample_gradients(image, nodes, org)
             du = self.step(ev, grads, a, u, bare + u, held)
@@ -234,11 +234,12 @@ class LocalRefiner:
             return None
         return u, self._quality(ev, a), ev
 
-    def value(self, a, org, box, nodes) -> float:
+    def value(self, a, org, box, nodes, hidden) -> float:
         """The confidence (``Quality.value``) the full comparison would give at ``nodes``.
 
         Read on the quality meter's own pixels only: the same number for a tenth of the
-        work. ``org`` and ``box`` as the finest level is bound, ``nodes`` in its pixels.
+        work. ``org`` and ``box`` as the finest level is bound, ``nodes`` in its pixels,
+        ``hidden`` (t,) bool or None the triangles turned away at ``a`` (``Evaluation.hidden``).
         """
         step = self.step_
         found = sample(self._probe, a, org, box, step.backend, nodes, self.sub_step.cover)
@@ -246,7 +247,6 @@ class LocalRefiner:
             return 0.0
         samples, valid = found
         compared = np.ones(len(self._probe), bool) if valid is None else valid
-        hidden = step.hidden(a)
         if hidden is not None:
             compared = compared & ~hidden[self._probe.triangle]
         return self._quality.measure(samples, compared, a).value

@@ -189,7 +189,7 @@ class Tracker:
         self.fitter.pictures.forget()  # a camera may refill the same buffer
         self.fitter.set_cover(cover)
         with single_blas_thread():
-            pending = None if self.lost else self._follow_ahead(frame)
+            pending = self._follow_ahead(frame)
             try:
                 return self._track(frame, pending)
             finally:
@@ -203,7 +203,7 @@ class Tracker:
         will too (see :meth:`_motion_start`), and on a second core they are ready when the
         fit is. What they give does not depend on when they are followed.
         """
-        if not self._points_likely or self._previous is None:
+        if self.lost or not self._points_likely or self._previous is None:
             return None
         if self._helper is None:
             self._helper = ThreadPoolExecutor(1, thread_name_prefix="voodoo-points")
