@@ -520,13 +520,17 @@ def test_a_trial_fit_is_one_short_descent(monkeypatch):
 
 
 def test_the_rest_shape_is_tried_as_a_trial_after_a_part_was_hidden(monkeypatch):
-    """After a frame with a large part out of view, the rest-shape start is a trial fit."""
+    """After a frame with a large part out of view, the rest-shape start is a trial fit.
+
+    Without the template's features: on some machines their start finds the unfolded doll
+    first (the last bits of the arithmetic decide), and then no rest-shape start is needed.
+    """
     from voodoo_addon.devtools.synthetic import squash_right
 
     scene, contour = foam_scene(*SIZE, 8000)
     rest = scene.render(Pose(), noise=0.01, rng=np.random.default_rng(0))
     blob = build_blob(rest, contour)
-    tracker = Tracker(blob)
+    tracker = Tracker(blob, options=TrackerOptions(features=False))
     for a in list(np.linspace(0.0, 0.95, 8)) + [0.95] * 3:
         tracker.track(squash_right(rest, scene.centre, scene.length, a))
     assert tracker._hidden.triangles is not None

@@ -315,6 +315,29 @@ class CoarseToFineFitter:
             covered=covered,
         )
 
+    def hold(self, frame, a: np.ndarray, template=None, covered=None) -> Fit:
+        """The pose ``a`` judged on ``frame`` as it is, without moving it (one comparison).
+
+        What the doll would be if it had not moved since the last frame. When a fold or a
+        turn leaves every start poor, the fits can run off to a place that explains the doll
+        less well than the pose they started near (a tail turning back: 0.07 where the last
+        pose keeps 0.45 of the part in view, ``samples/folds/tail_turn``).
+        """
+        fail = Fit(a, 0.0, 0)
+        pyr = self.pyramid(frame, [a], False)
+        if pyr is None:
+            return fail
+        images, origin = pyr
+        step = self.levels[0]
+        step.solver(self.active(step.index))  # may build a basis (which binds the template)
+        org, box = step.bind(images[step.index], origin)
+        ev = step.evaluate(a, org, box, occluded=covered, template=template)
+        if ev is None:
+            return Fit(a, 0.0, 1)
+        q = self.quality(ev, a)
+        visible = ev.triangle_weight > 0
+        return Fit(a, q.value, 1, ev.residual, ev.occluded_share, q, visible, pyr, covered)
+
     def refine(self, fit: Fit, offsets: np.ndarray, template=None, needed=None):
         """The local stage from ``offsets`` (m, 2) on a fit's frame (see :mod:`.refine`).
 

@@ -111,13 +111,22 @@ def at_rest(a: np.ndarray, layout, frozen=frozenset()) -> np.ndarray:
     return out
 
 
-def returned(fit, back) -> bool:
+def returned(fit, back, hidden=None) -> bool:
     """The fit from the rest shape (``back``) shows the hidden part back in view.
 
     It explains the doll better than ``fit`` and brings at least :data:`RETURN_GAIN` more
-    of it into view.
+    of it into view; and of the triangles it brings back (``hidden`` (t,) bool: the part
+    out of view), fewer than half fit poorly. A card over half the doll, flat grey where
+    the doll is faint, passes the occlusion test on many triangles; those are back in
+    view only in name: they do not correlate with the template at all.
     """
     if back.quality is None or fit.quality is None:
         return back.quality is not None
     gain = back.quality.share - fit.quality.share
-    return back.confidence > fit.confidence and gain >= RETURN_GAIN
+    if not (back.confidence > fit.confidence and gain >= RETURN_GAIN):
+        return False
+    if hidden is None or back.visible is None or back.quality.poor is None:
+        return True
+    back_again = hidden & back.visible
+    poor = np.count_nonzero(back_again & back.quality.poor)
+    return poor < 0.5 * np.count_nonzero(back_again)

@@ -257,6 +257,14 @@ class Tracker:
                     fit, its = self._better(fit, other, its)
         if not was_lost:
             fit, its = self._hidden_part(frame, fit, its)
+        # No fit finds the doll: it may simply not have moved, and the fits ran off from
+        # near it (see ``CoarseToFineFitter.hold``).
+        if not self._finds(fit):
+            template = None if was_lost else self._local.template
+            held = self.fitter.hold(frame, self.state, template, self._hidden.triangles)
+            its += held.iterations
+            if self._rescues(held, fit):
+                fit = held
         # Before giving up: a wide search from the last good pose, then from features.
         for fallback in (self._wide_start, self._feature_start):
             if fit.in_view >= need or (tried_features and fallback == self._feature_start):
@@ -367,7 +375,7 @@ class Tracker:
             rest = at_rest(fit.params, self.layout, self.frozen)
             back = self._fit(frame, [rest], trial=True)
             its += back.iterations
-            if returned(fit, back) and not self._rescues(fit, back):
+            if returned(fit, back, self._hidden.triangles) and not self._rescues(fit, back):
                 fit = back
         return fit, its
 
