@@ -38,8 +38,14 @@ def _covered_take(scene, blob, share, frames=24, covered=range(5, 17)):
 
 
 def test_a_doll_covered_over_more_than_half_is_followed_on_the_part_in_view(foam):
-    """60% of the doll's width under a card: not lost, the part in view registered, the
-    covered triangles marked out of view; uncovered, the whole doll is back in view."""
+    """60% of the doll's width under a card: not lost, the part in view registered, most
+    covered triangles marked out of view; uncovered, the whole doll is back in view.
+
+    Not all of them: the card is flat grey, and where the doll is faint many covered
+    triangles pass the occlusion test (they correlate with nothing, but are not far off in
+    colour). How many is decided by the last bits of the arithmetic: on an AMD EPYC, 55-82%
+    of them with NumPy 1.26 and 71-100% with NumPy 2.3.
+    """
     scene, _, blob = foam
     tracker = Tracker(blob)
     covered, errors = [], []
@@ -50,10 +56,13 @@ def test_a_doll_covered_over_more_than_half_is_followed_on_the_part_in_view(foam
         err = np.linalg.norm(res.nodes - true, axis=1)
         errors.append(err[seen].mean())
         if not seen.all():
-            covered.append(res.visible.mean())
+            under = ~seen[blob.triangles].any(axis=1)  # every corner under the card
+            in_view = seen[blob.triangles].all(axis=1)
+            covered.append(1.0 - res.visible[under].mean())
+            assert res.visible[in_view].all(), i
             assert res.confidence >= tracker.options.lost_below
-    # The covered part is marked out of view on most covered frames...
-    assert np.median(covered) < 0.6, covered
+    # Most of the covered part is marked out of view on most covered frames...
+    assert np.median(covered) > 0.5, covered
     # ... the part in view stays registered, and the doll is whole again once uncovered.
     assert max(errors) < 0.5, errors
     assert res.visible.all() and errors[-1] < 0.1
