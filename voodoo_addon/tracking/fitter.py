@@ -301,19 +301,7 @@ class CoarseToFineFitter:
         ev = best.evaluation
         if ev is None or not self._plausible(best.params):
             return Fit(start, 0.0, its)
-        q = self.quality(ev, best.params)
-        visible = ev.triangle_weight > 0
-        return Fit(
-            best.params,
-            q.value,
-            its,
-            ev.residual,
-            ev.occluded_share,
-            q,
-            visible,
-            pyr,
-            covered=covered,
-        )
+        return self._judged(best.params, ev, its, pyr, covered)
 
     def hold(self, frame, a: np.ndarray, template=None, covered=None) -> Fit:
         """The pose ``a`` judged on ``frame`` as it is, without moving it (one comparison).
@@ -323,20 +311,26 @@ class CoarseToFineFitter:
         less well than the pose they started near (a tail turning back: 0.07 where the last
         pose keeps 0.45 of the part in view, ``samples/folds/tail_turn``).
         """
-        fail = Fit(a, 0.0, 0)
         pyr = self.pyramid(frame, [a], False)
         if pyr is None:
-            return fail
-        images, origin = pyr
+            return Fit(a, 0.0, 0)
         step = self.levels[0]
-        step.solver(self.active(step.index))  # may build a basis (which binds the template)
-        org, box = step.bind(images[step.index], origin)
+        org, box = self._bind(step, *pyr)
         ev = step.evaluate(a, org, box, occluded=covered, template=template)
         if ev is None:
             return Fit(a, 0.0, 1)
+        return self._judged(a, ev, 1, pyr, covered)
+
+    def _judged(self, a, ev: Evaluation, its: int, pyr, covered) -> Fit:
+        """The fit at ``a`` whose finest comparison is ``ev``, with its quality."""
         q = self.quality(ev, a)
         visible = ev.triangle_weight > 0
-        return Fit(a, q.value, 1, ev.residual, ev.occluded_share, q, visible, pyr, covered)
+        return Fit(a, q.value, its, ev.residual, ev.occluded_share, q, visible, pyr, covered)
+
+    def _bind(self, step: DifferenceDecomposition, images, origin):
+        """Bind ``step``'s picture for :meth:`DifferenceDecomposition.evaluate` (org, box)."""
+        step.solver(self.active(step.index))  # may build a basis (which binds the template)
+        return step.bind(images[step.index], origin)
 
     def refine(self, fit: Fit, offsets: np.ndarray, template=None, needed=None):
         """The local stage from ``offsets`` (m, 2) on a fit's frame (see :mod:`.refine`).
@@ -393,8 +387,7 @@ class CoarseToFineFitter:
         Returns (params, evaluations).
         """
         top = self.levels[-1]
-        top.solver(self.active(top.index))  # may build a basis (which binds the template)
-        org, box = top.bind(images[top.index], origin)
+        org, box = self._bind(top, images, origin)
         scale = top.level.scale
         offsets = np.arange(-SEARCH_RADIUS, SEARCH_RADIUS + 1, SEARCH_STEP) / scale
         best, best_res, its = seeds[0], np.inf, 0

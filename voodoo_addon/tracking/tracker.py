@@ -263,7 +263,7 @@ class Tracker:
             template = None if was_lost else self._local.template
             held = self.fitter.hold(frame, self.state, template, self._hidden.triangles)
             its += held.iterations
-            if self._rescues(held, fit):
+            if self._finds(held):
                 fit = held
         # Before giving up: a wide search from the last good pose, then from features.
         for fallback in (self._wide_start, self._feature_start):
