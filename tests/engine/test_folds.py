@@ -6,9 +6,16 @@ import numpy as np
 import pytest
 
 from voodoo_addon.blob.build import build_blob
-from voodoo_addon.devtools.folds import HELDOUT_FOLDS, HELDOUT_FOLDS2, fold_clips, run_fold_clip
+from voodoo_addon.devtools.folds import (
+    HELDOUT_FOLDS,
+    HELDOUT_FOLDS2,
+    fold_clips,
+    nearest_modal,
+    run_fold_clip,
+)
 from voodoo_addon.devtools.synthetic import Pose, foam_scene, squash_right
 from voodoo_addon.tracking import Tracker
+from voodoo_addon.tracking.params import ParamLayout, node_positions
 from voodoo_addon.tracking.quality import folded_triangles
 
 SIZE = (320, 240)
@@ -171,6 +178,42 @@ def test_fold_clip_against_klt_and_dis(clip):
     assert ours["lost_in_third"] <= short.get("lost", 0), brief
     assert ours["opened_at"] is not None
     assert ours["open_recovery_frames"] is not None and ours["open_recovery_frames"] <= 10
+
+
+class _Shapes:
+    """A renderer's truth made of given meshes: frame i is ``meshes[i]``, ``seen[i]`` seen."""
+
+    def __init__(self, meshes, seen):
+        self.meshes, self.seen = meshes, seen
+
+    def __len__(self):
+        return len(self.meshes)
+
+    def __call__(self, i, rest):
+        return self.meshes[i], self.seen[i]
+
+
+def test_the_nearest_modal_shape_is_the_shape_itself_when_the_modes_hold_it(foam):
+    """The *modes at best* row: a turned, scaled and bent mesh is fitted exactly from its
+    seen nodes alone (the similarity and the modes together), and a frame with too few seen
+    nodes keeps the last shape."""
+    _, _, blob = foam
+    layout = ParamLayout(tuple(str(n) for n in blob.labels))
+    rng = np.random.default_rng(3)
+    meshes = []
+    for turn in (0.3, 0.5):
+        a = layout.identity()
+        a[:4] = (6.0, -4.0, turn, 0.15)
+        a[layout.modes] = rng.normal(0.0, 2.0, layout.n_modes)
+        meshes.append(node_positions(a, layout, blob.vertices, blob.modes, blob.centre))
+    meshes.append(meshes[1] + 50.0)
+    seen = np.ones((3, blob.n_nodes), bool)
+    seen[:2, : blob.n_nodes // 3] = False
+    seen[2, 2:] = False
+    got = nearest_modal(blob, _Shapes(meshes, seen), layout)
+    for i in range(2):
+        assert np.abs(got[i] - meshes[i]).max() < 1e-3
+    np.testing.assert_array_equal(got[2], got[1])
 
 
 def test_the_fold_clips_are_there():
