@@ -203,12 +203,12 @@ def run_fold_clip(clip: Clip, trackers=("ours", "klt", "dis"), options=None) -> 
     frames, outline, _ = read_clip(clip)
     blob = build_blob(to_float_rgb(frames[0]), outline)
     truth = LatticeTruth(clip.truth)
+    layout = ParamLayout(tuple(str(n) for n in blob.labels))
     rows = []
     for name in trackers:
         extra = {}
         if name == "ours":
             verts, lost, secs, conf, params = track_ours(frames, blob, options, params=True)
-            layout = ParamLayout(tuple(str(n) for n in blob.labels))
             amps = params[:, layout.modes]
             extra["confidence"] = np.round(conf, 3).tolist()
             jump, typical = mode_jumps(amps, lost)
@@ -217,7 +217,6 @@ def run_fold_clip(clip: Clip, trackers=("ours", "klt", "dis"), options=None) -> 
             truth_jump = mode_jumps(true_modes(blob, truth, layout), np.zeros(len(truth), bool))
             extra["true_mode_jump_px"] = round(truth_jump[0], 2)
         elif name == "modes":
-            layout = ParamLayout(tuple(str(n) for n in blob.labels))
             verts = nearest_modal(blob, truth, layout)
             lost, secs = np.zeros(len(verts), bool), None
         elif name == "klt":
