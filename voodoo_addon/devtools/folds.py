@@ -175,6 +175,7 @@ def nearest_modal(blob, truth: LatticeTruth, layout) -> np.ndarray:
     """
     rest = blob.vertices.astype(np.float32)
     stop = layout.modes.stop
+    fit = PointFit(blob, layout, blob.vertices)  # every node; each frame uses the seen ones
     a = layout.identity()
     out = []
     for i in range(len(truth)):
@@ -183,14 +184,13 @@ def nearest_modal(blob, truth: LatticeTruth, layout) -> np.ndarray:
         if len(idx) >= 3:
             mat, _ = cv2.estimateAffinePartial2D(rest[idx], nodes[idx].astype(np.float32))
             if mat is not None:
-                fit = PointFit(blob, layout, blob.vertices[idx])
                 sim = np.asarray(similarity_from_matrix(mat, blob.centre, a[2]), np.float64)
-                start = fit.fit(np.arange(len(idx)), nodes[idx], sim[:4], a, 1e-6)
+                start = fit.fit(idx, nodes[idx], sim[:4], a, 1e-6)
 
-                def misfit(p, fit=fit, target=nodes[idx], base=start):
+                def misfit(p, idx=idx, target=nodes[idx], base=start):
                     full = base.copy()
                     full[:stop] = p
-                    return (fit.positions(full) - target).ravel()
+                    return (fit.positions(full)[idx] - target).ravel()
 
                 a = start.copy()
                 a[:stop] = least_squares(misfit, start[:stop], method="lm").x
