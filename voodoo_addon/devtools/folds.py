@@ -24,6 +24,10 @@ decoded frames and judged on what the issue asks of a fold:
   the next (pixels RMS over the doll), against the median change and against the largest
   change of the renderer's own mesh projected onto the modes (:func:`true_modes`): what a
   character driven by the modes would show as a jump the doll did not make.
+
+With ``--camera webcam`` or ``--camera dim`` every clip is first given a camera's faults
+(:mod:`.camera`: defocus, exposure drift, sensor noise, JPEG), and the blob is built on the
+degraded first frame.
 """
 
 from __future__ import annotations
@@ -40,6 +44,7 @@ from ..tracking.params import ParamLayout, node_positions, similarity_from_matri
 from ..tracking.proposals import PointFit
 from ..tracking.quality import score_track
 from .baselines import track_dis, track_klt
+from .camera import CAMERAS, CameraFaults, degrade
 from .clips import SAMPLES, Clip, LatticeTruth, read_clip, track_ours, truth_errors
 
 FOLDS = SAMPLES / "folds"
@@ -198,9 +203,16 @@ def nearest_modal(blob, truth: LatticeTruth, layout) -> np.ndarray:
     return np.array(out)
 
 
-def run_fold_clip(clip: Clip, trackers=("ours", "klt", "dis"), options=None) -> list[dict]:
-    """Every tracker on one clip; a row per tracker (with per-frame series)."""
+def run_fold_clip(
+    clip: Clip, trackers=("ours", "klt", "dis"), options=None, camera: CameraFaults | None = None
+) -> list[dict]:
+    """Every tracker on one clip; a row per tracker (with per-frame series).
+
+    ``camera``: the faults to put on the frames first (None: the clean render).
+    """
     frames, outline, _ = read_clip(clip)
+    if camera is not None:
+        frames = degrade(frames, camera)
     blob = build_blob(to_float_rgb(frames[0]), outline)
     truth = LatticeTruth(clip.truth)
     layout = ParamLayout(tuple(str(n) for n in blob.labels))
@@ -295,12 +307,16 @@ def main(argv=None) -> int:
     p.add_argument("--only", nargs="*", help="clip names")
     p.add_argument("--trackers", nargs="*", default=list(TRACKERS), choices=TRACKERS)
     p.add_argument("--json", help="write all rows (with per-frame series) here")
+    p.add_argument(
+        "--camera", choices=sorted(CAMERAS), help="put a camera's faults on the frames first"
+    )
     args = p.parse_args(argv)
+    camera = CAMERAS[args.camera] if args.camera else None
     rows = []
     for clip in fold_clips(args.root) if args.root else fold_suite():
         if args.only and clip.name not in args.only:
             continue
-        rows += run_fold_clip(clip, args.trackers)
+        rows += run_fold_clip(clip, args.trackers, camera=camera)
     if args.json:
         Path(args.json).write_text(json.dumps(rows))
     print(format_folds(rows))

@@ -1,0 +1,72 @@
+"""A real camera's faults, put on clean renders: defocus, exposure drift, sensor noise, JPEG.
+
+A render is sharper, steadier and cleaner than what a webcam sends. To see whether a result
+on renders holds on a camera's frames, :func:`degrade` gives a clip, frame by frame, what a
+cheap camera adds, in the order the camera adds it: the lens blurs (defocus), the
+auto-exposure swings the brightness, the sensor adds noise, and the frame is compressed as
+JPEG, which is what USB webcams send (MJPEG). The blob is then built on the degraded first
+frame, as a user's would be. The faults are seeded, so a degraded clip is the same every run.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+
+@dataclass(frozen=True)
+class CameraFaults:
+    """What a camera adds to a clean frame.
+
+    Attributes
+    ----------
+    blur : float
+        Defocus: Gaussian sigma in pixels (0: none).
+    drift : float
+        Exposure swing: the gain goes ``1 + drift * sin(2 pi t / T)`` over the clip's T
+        frames (0: none).
+    noise : float
+        Sensor noise: standard deviation in 8-bit grey levels (0: none).
+    jpeg : int
+        JPEG quality of every frame, 1-100 (100: not compressed).
+    seed : int
+        Seed of the noise.
+    """
+
+    blur: float = 0.8
+    drift: float = 0.15
+    noise: float = 4.0
+    jpeg: int = 70
+    seed: int = 0
+
+
+#: The cameras the fold benchmark can put on its clips: ``webcam`` a fair USB webcam in
+#: room light, ``dim`` a cheap one in a dim room (more noise and blur, harder compression).
+CAMERAS = {
+    "webcam": CameraFaults(),
+    "dim": CameraFaults(blur=1.0, drift=0.2, noise=7.0, jpeg=60),
+}
+
+
+def degrade(frames, faults: CameraFaults) -> list[np.ndarray]:
+    """The frames (8-bit RGB, (H, W, 3)) as the camera ``faults`` would send them."""
+    rng = np.random.default_rng(faults.seed)
+    count = len(frames)
+    out = []
+    for i, frame in enumerate(frames):
+        x = np.asarray(frame, np.float32)
+        if faults.blur > 0:
+            x = cv2.GaussianBlur(x, (0, 0), faults.blur)
+        x = x * np.float32(1.0 + faults.drift * np.sin(2.0 * np.pi * i / max(count, 1)))
+        if faults.noise > 0:
+            x = x + rng.normal(0.0, faults.noise, x.shape).astype(np.float32)
+        x = np.clip(np.rint(x), 0, 255).astype(np.uint8)
+        if faults.jpeg < 100:
+            ok, data = cv2.imencode(".jpg", x[..., ::-1], [cv2.IMWRITE_JPEG_QUALITY, faults.jpeg])
+            if not ok:
+                raise RuntimeError("OpenCV could not encode a frame as JPEG")
+            x = np.ascontiguousarray(cv2.imdecode(data, cv2.IMREAD_COLOR)[..., ::-1])
+        out.append(x)
+    return out
