@@ -4,8 +4,8 @@ A render is sharper, steadier and cleaner than what a webcam sends. To see wheth
 on renders holds on a camera's frames, :func:`degrade` gives a clip, frame by frame, what a
 cheap camera adds, in the order the camera adds it: the lens blurs (defocus), the
 auto-exposure swings the brightness, the sensor adds noise, and the frame is compressed as
-JPEG, which is what USB webcams send (MJPEG). The blob is then built on the degraded first
-frame, as a user's would be. The faults are seeded, so a degraded clip is the same every run.
+JPEG, which is what USB webcams send (MJPEG). The faults are seeded, so a degraded clip is
+the same every run.
 """
 
 from __future__ import annotations
