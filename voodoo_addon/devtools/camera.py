@@ -59,7 +59,7 @@ def degrade(frames, faults: CameraFaults) -> list[np.ndarray]:
         x = np.asarray(frame, np.float32)
         if faults.blur > 0:
             x = cv2.GaussianBlur(x, (0, 0), faults.blur)
-        x = x * np.float32(1.0 + faults.drift * np.sin(2.0 * np.pi * i / max(count, 1)))
+        x = x * np.float32(1.0 + faults.drift * np.sin(2.0 * np.pi * i / count))
         if faults.noise > 0:
             x = x + rng.normal(0.0, faults.noise, x.shape).astype(np.float32)
         x = np.clip(np.rint(x), 0, 255).astype(np.uint8)
