@@ -17,6 +17,7 @@ from hardclips.folds import FOLDS, README_FOLDS, visibility_rows
 from hardclips.heldout import HELDOUT
 from hardclips.heldout_folds import HELDOUT_FOLDS, README_HELDOUT_FOLDS
 from hardclips.heldout_folds2 import HELDOUT_FOLDS2, README_HELDOUT_FOLDS2
+from hardclips.heldout_folds3 import HELDOUT_FOLDS3, README_HELDOUT_FOLDS3
 from hardclips.multi import MULTI
 from hardclips.scenarios import CLIPS
 from hardclips.scene import HEIGHT, SEED, WIDTH, new_scene
@@ -29,8 +30,10 @@ def clip_number(clip):
 
     Its place in ``CLIPS``; held-out clips: 100 + in ``HELDOUT``; several dolls: 200 + in ``MULTI``;
     folds: 300 + in ``FOLDS``; held-out folds: 400 + in ``HELDOUT_FOLDS``, the second batch 500 +
-    in ``HELDOUT_FOLDS2``.
+    in ``HELDOUT_FOLDS2``, the third 600 + in ``HELDOUT_FOLDS3``.
     """
+    if clip in HELDOUT_FOLDS3:
+        return 600 + HELDOUT_FOLDS3.index(clip)
     if clip in HELDOUT_FOLDS2:
         return 500 + HELDOUT_FOLDS2.index(clip)
     if clip in HELDOUT_FOLDS:
@@ -163,8 +166,8 @@ the perspective camera, apart from the others and at rest for three frames.
 def write_readme(out, clips=CLIPS):
     """``out``/README.md: how the clips were made, what they hold, one row per clip.
 
-    ``clips`` is ``CLIPS``, ``HELDOUT``, ``MULTI``, ``FOLDS``, ``HELDOUT_FOLDS`` or
-    ``HELDOUT_FOLDS2``.
+    ``clips`` is ``CLIPS``, ``HELDOUT``, ``MULTI``, ``FOLDS``, ``HELDOUT_FOLDS``,
+    ``HELDOUT_FOLDS2`` or ``HELDOUT_FOLDS3``.
     """
     making = MAKING if clips is CLIPS else MAKING_HELDOUT
     rows = []
@@ -189,6 +192,8 @@ def write_readme(out, clips=CLIPS):
         text = README_HELDOUT_FOLDS.format(**shared, visibility=visibility_rows(out, clips))
     elif clips is HELDOUT_FOLDS2:
         text = README_HELDOUT_FOLDS2.format(**shared, visibility=visibility_rows(out, clips))
+    elif clips is HELDOUT_FOLDS3:
+        text = README_HELDOUT_FOLDS3.format(**shared, visibility=visibility_rows(out, clips))
     elif clips is MULTI:
         text = README_MULTI.format(**shared)
     else:
