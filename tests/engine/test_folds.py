@@ -9,6 +9,7 @@ from voodoo_addon.blob.build import build_blob
 from voodoo_addon.devtools.folds import (
     HELDOUT_FOLDS,
     HELDOUT_FOLDS2,
+    HELDOUT_FOLDS3,
     fold_clips,
     nearest_modal,
     run_fold_clip,
@@ -136,6 +137,14 @@ def test_a_crease_search_presses_the_far_side_of_a_fold(foam, amount):
 FOLDS = fold_clips()
 HELD_OUT = fold_clips(HELDOUT_FOLDS)
 HELD_OUT_2 = fold_clips(HELDOUT_FOLDS2)
+HELD_OUT_3 = fold_clips(HELDOUT_FOLDS3)
+#: Held-out clips the tracker does not pass yet (BENCHMARKS.md, *A third held-out batch*).
+FAILING = {
+    # A furry patch turned 50 deg about a tilted axis, its far part past edge-on: the
+    # mesh shrinks with the turn, the part out of view is held 7 px off, and on the return
+    # the doll is lost for 4 frames, found again 19-39 px off; 14.3 px against DIS's 6.1.
+    "toy_tail_lift": "the turn about a tilted axis is not followed (BENCHMARKS.md)",
+}
 #: Where a clip fell short of the issue's bounds on some machine (BENCHMARKS.md, *Folds and
 #: turns*): the last bits of the arithmetic differ between CPUs and NumPy lines, and on the
 #: hardest frames they decide between two starts. These clips are held to the bound they
@@ -155,7 +164,12 @@ SHORT = {
 @pytest.mark.slow
 @pytest.mark.parametrize(
     "clip",
-    FOLDS + HELD_OUT + HELD_OUT_2,
+    [
+        pytest.param(clip, marks=pytest.mark.xfail(strict=True, reason=FAILING[clip.name]))
+        if clip.name in FAILING
+        else clip
+        for clip in FOLDS + HELD_OUT + HELD_OUT_2 + HELD_OUT_3
+    ],
     ids=lambda clip: clip.name,
 )
 def test_fold_clip_against_klt_and_dis(clip):
@@ -166,7 +180,8 @@ def test_fold_clip_against_klt_and_dis(clip):
     The issue asks for no lost frame and 10 frames; BENCHMARKS.md has the figures on each
     NumPy line (counted from the part's first showing, nearly edge-on, several clips take
     more than 10). Two clips of the second held-out batch are held to looser bounds
-    (:data:`SHORT`).
+    (:data:`SHORT`); one of the third fails (:data:`FAILING`), and is expected to until the
+    tracker follows it.
     """
     rows = {r["tracker"]: r for r in run_fold_clip(clip)}
     ours = rows["ours"]
@@ -220,6 +235,7 @@ def test_the_fold_clips_are_there():
     assert {c.name for c in FOLDS} >= {"fold_squeeze", "tail_turn", "sheet_foldover"}
     assert {c.name for c in HELD_OUT} >= {"pouch_crush", "plush_flip", "cloth_corner_fold"}
     assert {c.name for c in HELD_OUT_2} == {"box_side_squeeze", "plush_nod", "paper_half_fold"}
+    assert {c.name for c in HELD_OUT_3} == {"bag_fold_hands", "toy_tail_lift", "shirt_fold_print"}
 
 
 def test_a_poorly_fitting_part_counts_as_hidden_only_when_it_lies_on_one_side(foam):

@@ -6,7 +6,12 @@ import pytest
 from voodoo_addon.blob.build import build_blob
 from voodoo_addon.devtools.synthetic import Pose, foam_scene
 from voodoo_addon.tracking.params import ParamLayout, node_positions
-from voodoo_addon.tracking.proposals import FeatureMatcher, MotionProposal, PointFit
+from voodoo_addon.tracking.proposals import (
+    TEMPLATE_FEATURES,
+    FeatureMatcher,
+    MotionProposal,
+    PointFit,
+)
 
 SIZE = (320, 240)
 
@@ -67,3 +72,35 @@ def test_features_find_a_turned_and_moved_blob(scene_blob):
     assert guess is not None
     err = np.linalg.norm(_nodes(blob, layout, guess) - scene.forward(pose, blob.vertices), axis=1)
     assert err.mean() < 3.0, err.mean()
+
+
+def _faint(image):
+    """The picture with a tenth of its contrast, as faint fur shows its pattern."""
+    return (0.5 + 0.1 * (np.asarray(image) - 0.5)).astype(np.float32)
+
+
+def test_a_lost_doll_of_faint_texture_is_found_by_fainter_features():
+    """SIFT's default finds too few keypoints on a faint template to match at all; a lost
+    doll is searched for by fainter ones, a doll not lost keeps the default (and so does a
+    lost one whose template has enough)."""
+    scene, contour = foam_scene(*SIZE, 6000)
+    rest = _faint(scene.render(Pose(), noise=0.0005, rng=np.random.default_rng(0)))
+    blob = build_blob(rest, contour)
+    layout = ParamLayout(tuple(str(s) for s in blob.labels), "channel")
+    pose = Pose(tx=-40.0, ty=25.0, theta=2.0)
+    frame = _faint(scene.render(pose, noise=0.0005, rng=np.random.default_rng(4)))
+    matcher = FeatureMatcher(blob, layout)
+    assert len(matcher._template(False)[1]) < TEMPLATE_FEATURES
+    assert matcher.guess(frame, layout.identity()) is None
+    assert len(matcher._template(True)[1]) >= TEMPLATE_FEATURES
+    guess = matcher.guess(frame, layout.identity(), lost=True)
+    assert guess is not None
+    err = np.linalg.norm(_nodes(blob, layout, guess) - scene.forward(pose, blob.vertices), axis=1)
+    assert err.mean() < 3.0, err.mean()
+
+
+def test_a_lost_doll_of_rich_texture_is_matched_as_one_not_lost(scene_blob):
+    _, blob, _, _ = scene_blob
+    matcher = FeatureMatcher(blob, ParamLayout(tuple(str(s) for s in blob.labels), "channel"))
+    assert len(matcher._template(False)[1]) >= TEMPLATE_FEATURES
+    np.testing.assert_array_equal(matcher._template(True)[1], matcher._template(False)[1])

@@ -33,6 +33,14 @@ MAX_POINTS = 160
 #: spans half of it).
 SEARCH_SIDE = 400
 NEAR_SIDE = 240
+#: SIFT's contrast threshold (OpenCV's default). To find a *lost* doll it is halved, down to
+#: the least, while the template gives fewer than :data:`TEMPLATE_FEATURES` keypoints: on
+#: faint fur the default finds 2-5, too few to ever match, and a furry doll once lost was
+#: never found again. A doll not lost keeps the default: its fits start near it, and the
+#: faint features' starts taken there put a turned half of ``plush_flip`` 25-30 px off.
+CONTRAST = 0.04
+LEAST_CONTRAST = 0.005
+TEMPLATE_FEATURES = 64
 
 
 def grey8(image: np.ndarray) -> np.ndarray:
@@ -245,27 +253,36 @@ class FeatureMatcher:
     def __init__(self, blob: ActiveBlob, layout: ParamLayout):
         self.blob = blob
         self.layout = layout
-        self._template = None
-        self._detector = None
+        self._made = {}  # lost (bool) -> (detector, points, descriptors, PointFit)
 
-    def _prepare(self):
-        if self._template is not None:
-            return
-        self._detector = cv2.SIFT_create(nfeatures=800)
+    def _template(self, lost: bool):
+        """The detector and the template's keypoints for a doll lost or not (made once)."""
+        if lost in self._made:
+            return self._made[lost]
         tex = self.blob.texture
         mask = np.zeros(tex.shape[:2], np.uint8)
         poly = np.round(self.blob.contour - self.blob.texture_origin).astype(np.int32)
         cv2.fillPoly(mask, [poly], 255)
-        kp, desc = self._detector.detectAndCompute(grey8(tex), mask)
+        contrast = CONTRAST
+        while True:
+            detector = cv2.SIFT_create(nfeatures=800, contrastThreshold=contrast)
+            kp, desc = detector.detectAndCompute(grey8(tex), mask)
+            if not lost or len(kp) >= TEMPLATE_FEATURES or contrast <= LEAST_CONTRAST:
+                break
+            contrast = max(0.5 * contrast, LEAST_CONTRAST)
         pts = np.array([k.pt for k in kp], dtype=np.float64).reshape(-1, 2)
         pts += self.blob.texture_origin
-        self._template = (pts, desc, PointFit(self.blob, self.layout, pts) if len(pts) else None)
+        fit = PointFit(self.blob, self.layout, pts) if len(pts) else None
+        self._made[lost] = (detector, pts, desc, fit)
+        return self._made[lost]
 
-    def guess(self, frame: np.ndarray, near: np.ndarray, box=None):
+    def guess(self, frame: np.ndarray, near: np.ndarray, box=None, lost: bool = False):
         """Parameters with the similarity found in ``frame``, the modes fitted to the matches.
 
         ``box`` (x0, y0, x1, y1) limits the search to a region of the frame (a blob that is
-        not lost is near where it was); by default the whole frame is searched.
+        not lost is near where it was); by default the whole frame is searched. ``lost``:
+        the doll is lost, and fainter features are matched if its template has too few
+        (:data:`CONTRAST`).
 
         Returns
         -------
@@ -273,8 +290,7 @@ class FeatureMatcher:
             None when too few features agree. Entries other than the similarity and modes
             are those of ``near``.
         """
-        self._prepare()
-        pts_t, desc_t, fit = self._template
+        detector, pts_t, desc_t, fit = self._template(lost)
         if desc_t is None or fit is None or len(pts_t) < MIN_POINTS:
             return None
         x0 = y0 = 0
@@ -286,7 +302,7 @@ class FeatureMatcher:
         shrink = min(1.0, (SEARCH_SIDE if box is None else NEAR_SIDE) / max(grey.shape))
         if shrink < 1.0:
             grey = cv2.resize(grey, None, fx=shrink, fy=shrink, interpolation=cv2.INTER_AREA)
-        kp, desc = self._detector.detectAndCompute(grey, None)
+        kp, desc = detector.detectAndCompute(grey, None)
         if desc is None or len(kp) < MIN_POINTS:
             return None
         pairs = cv2.BFMatcher(cv2.NORM_L2).knnMatch(desc_t, desc, k=2)

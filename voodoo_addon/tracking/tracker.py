@@ -412,7 +412,8 @@ class Tracker:
     def _feature_start(self, frame, was_lost=False):
         """A pose from SIFT matches against the template, frozen parameters kept.
 
-        A blob that is not lost is searched for around where it was (twice its size).
+        A blob that is not lost is searched for around where it was (twice its size); a
+        lost one in the whole frame, by fainter features if its template has too few.
         """
         if self._matcher is None:
             return None
@@ -426,7 +427,7 @@ class Tracker:
             x1, y1 = np.minimum(np.ceil(hi + pad), [w, h]).astype(int)
             if x1 - x0 >= 32 and y1 - y0 >= 32:
                 box = (x0, y0, x1, y1)
-        guess = self._matcher.guess(frame, self.last_good, box)
+        guess = self._matcher.guess(frame, self.last_good, box, lost=was_lost)
         if guess is not None:
             frozen = list(self.frozen)
             guess[frozen] = self.last_good[frozen]
