@@ -365,7 +365,7 @@ class _CountingMatcher:
     def __init__(self):
         self.calls = 0
 
-    def guess(self, frame, near, box=None):
+    def guess(self, frame, near, box=None, lost=False):
         self.calls += 1
 
 
