@@ -256,14 +256,24 @@ class FeatureMatcher:
         self._made = {}  # lost (bool) -> (detector, points, descriptors, PointFit)
 
     def _template(self, lost: bool):
-        """The detector and the template's keypoints for a doll lost or not (made once)."""
+        """The detector and the template's keypoints for a doll lost or not (made once).
+
+        A lost doll shares the plain template when it has :data:`TEMPLATE_FEATURES`
+        keypoints; otherwise fainter ones are sought (:data:`CONTRAST`).
+        """
         if lost in self._made:
             return self._made[lost]
+        contrast = CONTRAST
+        if lost:
+            plain = self._template(False)
+            if len(plain[1]) >= TEMPLATE_FEATURES:
+                self._made[lost] = plain
+                return plain
+            contrast = max(0.5 * contrast, LEAST_CONTRAST)
         tex = self.blob.texture
         mask = np.zeros(tex.shape[:2], np.uint8)
         poly = np.round(self.blob.contour - self.blob.texture_origin).astype(np.int32)
         cv2.fillPoly(mask, [poly], 255)
-        contrast = CONTRAST
         while True:
             detector = cv2.SIFT_create(nfeatures=800, contrastThreshold=contrast)
             kp, desc = detector.detectAndCompute(grey8(tex), mask)
