@@ -85,8 +85,20 @@ def diagonal_towards_camera(angle):
     Local X runs along (cos, sin) of ``angle`` in the sheet's plane and local +Y towards the
     camera (+Z): the bend is around the in-plane line at right angles to local X.
     """
+    return _diagonal(angle, 1.0)
+
+
+def diagonal_away(angle):
+    """As :func:`diagonal_towards_camera`, but local +Y away from the camera (-Z).
+
+    The part beyond the crease folds back, behind the rest.
+    """
+    return _diagonal(angle, -1.0)
+
+
+def _diagonal(angle, side):
     c, s = math.cos(angle), math.sin(angle)
-    return Matrix(((c, 0, s), (s, 0, -c), (0, 1, 0))).to_euler()
+    return Matrix(((c, 0, side * s), (s, 0, -side * c), (0, side, 0))).to_euler()
 
 
 POUCH_CREASE = 0.05  # pouch_crush: the crease's height above the sheet's centre

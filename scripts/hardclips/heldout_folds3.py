@@ -79,21 +79,12 @@ from hardclips.folds import (
     plush_on_pivot,
     set_back_colour,
 )
-from hardclips.heldout_folds import diagonal_towards_camera
+from hardclips.heldout_folds import diagonal_away, diagonal_towards_camera
 from hardclips.materials import studio_lights
 from hardclips.scene import Clip
 from hardclips.sheet import add_sheet, bend, deform_origin, deg, finish_sheet
+from hardclips.truth import evaluated_grid
 from hardclips.video import srgb_to_linear
-
-
-def diagonal_away(angle):
-    """A bend() origin rotation that folds across the in-plane direction ``angle`` (radians).
-
-    Local X runs along (cos, sin) of ``angle`` in the sheet's plane and local +Y away from the
-    camera (-Z): the part beyond the crease folds back, behind the rest.
-    """
-    c, s = math.cos(angle), math.sin(angle)
-    return Matrix(((c, 0, -s), (s, 0, c), (0, -1, 0))).to_euler()
 
 
 def extent_along(size, angle):
@@ -146,14 +137,7 @@ def sheet_frames(clip, sheet):
     grids = []
     for frame in range(clip.frames):
         scene.frame_set(scene.frame_start + frame)
-        depsgraph = bpy.context.evaluated_depsgraph_get()
-        evaluated = sheet.obj.evaluated_get(depsgraph)
-        vertices = evaluated.data.vertices
-        co = np.empty(len(vertices) * 3)
-        vertices.foreach_get("co", co)
-        local = co.reshape(-1, 3)[: index.size][index]
-        matrix = np.array(evaluated.matrix_world)
-        grids.append(local @ matrix[:3, :3].T + matrix[:3, 3])
+        grids.append(evaluated_grid(sheet, bpy.context.evaluated_depsgraph_get(), index)[1])
     scene.frame_set(scene.frame_start)
     return np.array(grids)
 

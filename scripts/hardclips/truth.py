@@ -32,19 +32,12 @@ def lattice_truth(scene, sheet):
     depsgraph = bpy.context.evaluated_depsgraph_get()
     camera = scene.camera
     index = sheet.grid_index()  # (rows + 1, cols + 1)
-    n_vertices = index.size
     keep = (slice(None, None, sheet.stride), slice(None, None, sheet.stride))
     assert all((s % sheet.stride) == 0 for s in sheet.segments), "stride must divide the grid"
     lattices, visibles = [], []
     for frame in range(scene.frame_start, scene.frame_end + 1):
         scene.frame_set(frame)
-        evaluated = sheet.obj.evaluated_get(depsgraph)
-        vertices = evaluated.data.vertices
-        co = np.empty(len(vertices) * 3)
-        vertices.foreach_get("co", co)
-        local = co.reshape(-1, 3)[:n_vertices][index]  # (rows + 1, cols + 1, 3)
-        world_matrix = np.array(evaluated.matrix_world)
-        world = local @ world_matrix[:3, :3].T + world_matrix[:3, 3]
+        local, world = evaluated_grid(sheet, depsgraph, index)
         # The painted side's normal from the grid itself (rows run down the image, i.e. -Y).
         normal = np.cross(np.gradient(world, axis=0), np.gradient(world, axis=1))
         eye = np.array(camera.matrix_world.translation)
@@ -62,6 +55,21 @@ def lattice_truth(scene, sheet):
             rest = np.array([v.co[:] for v in sheet.obj.data.vertices])[index]
             assert np.allclose(local, rest, atol=1e-5), "evaluated vertices do not match"
     return np.array(lattices, dtype=np.float32), np.array(visibles)
+
+
+def evaluated_grid(sheet, depsgraph, index):
+    """The sheet's grid as evaluated on the scene's current frame.
+
+    Returns (local, world) coordinates, each (rows + 1, cols + 1, 3); ``index`` is
+    ``sheet.grid_index()``.
+    """
+    evaluated = sheet.obj.evaluated_get(depsgraph)
+    vertices = evaluated.data.vertices
+    co = np.empty(len(vertices) * 3)
+    vertices.foreach_get("co", co)
+    local = co.reshape(-1, 3)[: index.size][index]
+    matrix = np.array(evaluated.matrix_world)
+    return local, local @ matrix[:3, :3].T + matrix[:3, 3]
 
 
 def occluded(scene, depsgraph, eye, point):
