@@ -360,13 +360,16 @@ def test_unknown_lighting_model_raises():
 
 
 class _CountingMatcher:
-    """Stands in for the SIFT matcher: counts the searches and finds nothing."""
+    """Stands in for the SIFT matcher: counts the searches (and whether each was for a lost
+    doll) and finds nothing."""
 
     def __init__(self):
         self.calls = 0
+        self.lost = []
 
     def guess(self, frame, near, box=None, lost=False):
         self.calls += 1
+        self.lost.append(lost)
 
 
 def test_a_futile_feature_search_is_not_repeated_until_the_fit_worsens(monkeypatch):
@@ -387,6 +390,26 @@ def test_a_futile_feature_search_is_not_repeated_until_the_fit_worsens(monkeypat
     res = tracker.track(noisy.astype(np.float32))  # the same pose, a much worse fit
     assert not res.lost
     assert matcher.calls == before + 1
+
+
+def test_a_doll_fitting_too_poorly_is_searched_for_as_a_lost_one(monkeypatch):
+    """Features are sought as for a lost doll (fainter ones, where its template has few)
+    once the frame's fit is less sure than a re-acquisition must be; a doll fitting well
+    enough keeps the plain features."""
+    from voodoo_addon.tracking import tracker as tracker_module
+
+    take = scenario("mixed")
+    monkeypatch.setattr(tracker_module, "FEATURES_BELOW", 1.0)  # every frame "fits poorly"
+    tracker = Tracker(take.blob, options=TrackerOptions(propose_below=1.0))
+    tracker._matcher = matcher = _CountingMatcher()
+    for frame in take.frames[:4]:
+        assert not tracker.track(frame).lost
+    assert matcher.lost and not any(matcher.lost)
+    matcher.lost.clear()
+    rng = np.random.default_rng(5)
+    noise = rng.uniform(0, 1, take.frames[0].shape).astype(np.float32)
+    assert tracker.track(noise).lost  # nothing of the doll in this frame
+    assert matcher.lost[0]
 
 
 def test_a_poor_fit_against_the_adapted_look_is_made_again_against_the_template(monkeypatch):
