@@ -33,10 +33,11 @@ MAX_POINTS = 160
 #: spans half of it).
 SEARCH_SIDE = 400
 NEAR_SIDE = 240
-#: SIFT's contrast threshold (OpenCV's default). To find a *lost* doll it is halved, down to
-#: the least, while the template gives fewer than :data:`TEMPLATE_FEATURES` keypoints: on
-#: faint fur the default finds 2-5, too few to ever match, and a furry doll once lost was
-#: never found again. A doll not lost keeps the default: its fits start near it, and the
+#: SIFT's contrast threshold (OpenCV's default). To find a *lost* doll (or one whose fit is
+#: too poor to be sure of it, see ``Tracker._feature_start``) it is halved, down to the
+#: least, while the template gives fewer than :data:`TEMPLATE_FEATURES` keypoints: on faint
+#: fur the default finds 2-5, too few to ever match, and a furry doll once lost was never
+#: found again. A doll fitting fairly keeps the default: its fits start near it, and the
 #: faint features' starts taken there put a turned half of ``plush_flip`` 25-30 px off.
 CONTRAST = 0.04
 LEAST_CONTRAST = 0.005
@@ -263,23 +264,23 @@ class FeatureMatcher:
         """
         if lost in self._made:
             return self._made[lost]
-        contrast = CONTRAST
         if lost:
             plain = self._template(False)
             if len(plain[1]) >= TEMPLATE_FEATURES:
                 self._made[lost] = plain
                 return plain
-            contrast = max(0.5 * contrast, LEAST_CONTRAST)
         tex = self.blob.texture
         mask = np.zeros(tex.shape[:2], np.uint8)
         poly = np.round(self.blob.contour - self.blob.texture_origin).astype(np.int32)
         cv2.fillPoly(mask, [poly], 255)
+        contrast = CONTRAST
         while True:
+            if lost:
+                contrast = max(0.5 * contrast, LEAST_CONTRAST)
             detector = cv2.SIFT_create(nfeatures=800, contrastThreshold=contrast)
             kp, desc = detector.detectAndCompute(grey8(tex), mask)
             if not lost or len(kp) >= TEMPLATE_FEATURES or contrast <= LEAST_CONTRAST:
                 break
-            contrast = max(0.5 * contrast, LEAST_CONTRAST)
         pts = np.array([k.pt for k in kp], dtype=np.float64).reshape(-1, 2)
         pts += self.blob.texture_origin
         fit = PointFit(self.blob, self.layout, pts) if len(pts) else None
@@ -291,7 +292,7 @@ class FeatureMatcher:
 
         ``box`` (x0, y0, x1, y1) limits the search to a region of the frame (a blob that is
         not lost is near where it was); by default the whole frame is searched. ``lost``:
-        the doll is lost, and fainter features are matched if its template has too few
+        search as for a lost doll -- fainter features if its template has too few
         (:data:`CONTRAST`).
 
         Returns
