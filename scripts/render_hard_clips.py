@@ -146,6 +146,29 @@ only when named, apart from every other clip, into ``samples/heldout_folds3``::
     towards the camera, about a crease tilted 9 degrees, slowly, and back, while the cloth
     slides sideways.
 
+A fourth batch of held-out clips of folds (``hardclips/heldout_folds4.py``, paint there too),
+made after the tracker's last change for issue 22's check that it generalises, likewise never
+to tune it on and made only when named, apart from every other clip, into
+``samples/heldout_folds4``::
+
+    OMP_NUM_THREADS=1 .venv/bin/python scripts/render_hard_clips.py --out samples/heldout_folds4 \
+        --only kraft_bag_squeeze fleece_tail_raise comic_page_fold
+
+``kraft_bag_squeeze``
+    Two hands, in from below and from the right, squeeze a matte kraft paper coffee bag lying
+    off the middle: its bottom part folds back behind the rest in half along a crease falling
+    14 degrees to the right, slowly (0.8 s), while it is pushed up and left; it holds,
+    unfolds, and the hands leave.
+``fleece_tail_raise``
+    A furry, low-contrast sage green plush patch with curly fur, held by a hand at its lower
+    left corner, is lifted towards the camera about an axis 12 degrees off the horizontal: the
+    patch 35 degrees and its lower half on to 115 degrees, past edge-on, fast, and back, while
+    it drifts.
+``comic_page_fold``
+    The right part of an upright printed comic page folds over to the left by 180 degrees,
+    towards the camera, about a crease leaning 7 degrees from the vertical, fast, and unfolds
+    slowly while the page drifts and turns a little.
+
 Everything is seeded: the same command makes the same scenes, truth and outlines (Cycles runs
 seeded on one thread, so the renders should repeat too). The seven tuned clips, which a run
 without ``--only`` renders, take about 50 minutes; the held-out, several-doll and fold clips are
@@ -165,11 +188,13 @@ from hardclips.heldout import HELDOUT  # scripts/ is on sys.path; hardclips pins
 from hardclips.heldout_folds import HELDOUT_FOLDS
 from hardclips.heldout_folds2 import HELDOUT_FOLDS2
 from hardclips.heldout_folds3 import HELDOUT_FOLDS3
+from hardclips.heldout_folds4 import HELDOUT_FOLDS4
 from hardclips.make import make_clip, write_readme
 from hardclips.multi import MULTI
 from hardclips.scenarios import CLIPS
 
-EVERY = CLIPS + HELDOUT + MULTI + FOLDS + HELDOUT_FOLDS + HELDOUT_FOLDS2 + HELDOUT_FOLDS3
+EVERY = CLIPS + HELDOUT + MULTI + FOLDS
+EVERY += HELDOUT_FOLDS + HELDOUT_FOLDS2 + HELDOUT_FOLDS3 + HELDOUT_FOLDS4
 
 
 def parse_args(argv=None):
@@ -209,11 +234,21 @@ def main(argv=None):
             raise SystemExit("make the second held-out fold clips apart from the others, elsewhere")
         if any(c in HELDOUT_FOLDS3 for c in clips) and any(c not in HELDOUT_FOLDS3 for c in clips):
             raise SystemExit("make the third held-out fold clips apart from the others, elsewhere")
+        if any(c in HELDOUT_FOLDS4 for c in clips) and any(c not in HELDOUT_FOLDS4 for c in clips):
+            raise SystemExit("make the fourth held-out fold clips apart from the others, elsewhere")
     total = 0.0
     for clip in clips:
         total += make_clip(clip, args.out, args.draft, args.truth_only)
     if not (args.draft or args.truth_only):
-        groups = (HELDOUT, MULTI, FOLDS, HELDOUT_FOLDS, HELDOUT_FOLDS2, HELDOUT_FOLDS3)
+        groups = (
+            HELDOUT,
+            MULTI,
+            FOLDS,
+            HELDOUT_FOLDS,
+            HELDOUT_FOLDS2,
+            HELDOUT_FOLDS3,
+            HELDOUT_FOLDS4,
+        )
         group = next((g for g in groups if clips[0] in g), CLIPS)
         write_readme(args.out, group)
     print(f"rendering took {total:.0f} s in all")
