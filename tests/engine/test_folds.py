@@ -10,6 +10,7 @@ from voodoo_addon.devtools.folds import (
     HELDOUT_FOLDS,
     HELDOUT_FOLDS2,
     HELDOUT_FOLDS3,
+    HELDOUT_FOLDS4,
     fold_clips,
     nearest_modal,
     run_fold_clip,
@@ -138,6 +139,7 @@ FOLDS = fold_clips()
 HELD_OUT = fold_clips(HELDOUT_FOLDS)
 HELD_OUT_2 = fold_clips(HELDOUT_FOLDS2)
 HELD_OUT_3 = fold_clips(HELDOUT_FOLDS3)
+HELD_OUT_4 = fold_clips(HELDOUT_FOLDS4)
 #: Held-out clips the tracker does not pass yet (BENCHMARKS.md, *A third held-out batch*).
 FAILING = {
     # A furry patch turned 50 deg about a tilted axis, its far part past edge-on: the
@@ -169,7 +171,7 @@ SHORT = {
         pytest.param(clip, marks=pytest.mark.xfail(reason=FAILING[clip.name]))
         if clip.name in FAILING
         else clip
-        for clip in FOLDS + HELD_OUT + HELD_OUT_2 + HELD_OUT_3
+        for clip in FOLDS + HELD_OUT + HELD_OUT_2 + HELD_OUT_3 + HELD_OUT_4
     ],
     ids=lambda clip: clip.name,
 )
@@ -237,6 +239,11 @@ def test_the_fold_clips_are_there():
     assert {c.name for c in HELD_OUT} >= {"pouch_crush", "plush_flip", "cloth_corner_fold"}
     assert {c.name for c in HELD_OUT_2} == {"box_side_squeeze", "plush_nod", "paper_half_fold"}
     assert {c.name for c in HELD_OUT_3} == {"bag_fold_hands", "toy_tail_lift", "shirt_fold_print"}
+    assert {c.name for c in HELD_OUT_4} == {
+        "kraft_bag_squeeze",
+        "fleece_tail_raise",
+        "comic_page_fold",
+    }
 
 
 def test_a_poorly_fitting_part_counts_as_hidden_only_when_it_lies_on_one_side(foam):

@@ -3,8 +3,9 @@
 Part ``folds`` of the benchmark. Every render under ``samples/folds`` (a sheet squeezed until
 it folds in half, turned edge-on by one end, folded over onto itself; see
 ``samples/folds/README.md``), and every held-out one under ``samples/heldout_folds``,
-``samples/heldout_folds2`` and ``samples/heldout_folds3`` (the same kinds of motion in other
-paint and motion, rendered after the tracker's last change and never tuned on), is tracked
+``samples/heldout_folds2``, ``samples/heldout_folds3`` and ``samples/heldout_folds4`` (the
+same kinds of motion in other paint and motion, rendered after the tracker's last change and
+never tuned on), is tracked
 by ours, KLT and DIS on the same decoded frames and judged on what the issue asks of a fold:
 
 - **folded frames**: frames where any triangle of the mesh is turned over;
@@ -55,7 +56,9 @@ HELDOUT_FOLDS = SAMPLES / "heldout_folds"
 HELDOUT_FOLDS2 = SAMPLES / "heldout_folds2"
 #: A third batch, made after the tracker's last change, when the second had been run.
 HELDOUT_FOLDS3 = SAMPLES / "heldout_folds3"
-HELDOUT_ROOTS = (HELDOUT_FOLDS, HELDOUT_FOLDS2, HELDOUT_FOLDS3)
+#: A fourth batch, made when the tracker had not changed since the third had been run.
+HELDOUT_FOLDS4 = SAMPLES / "heldout_folds4"
+HELDOUT_ROOTS = (HELDOUT_FOLDS, HELDOUT_FOLDS2, HELDOUT_FOLDS3, HELDOUT_FOLDS4)
 #: The doll counts as in view while at least this share of its true lattice is seen.
 THIRD = 1.0 / 3.0
 #: The hidden part is back once this share of the lattice is seen again.
