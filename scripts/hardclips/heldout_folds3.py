@@ -92,6 +92,18 @@ def extent_along(size, angle):
     return size[0] * abs(math.cos(angle)) + size[1] * abs(math.sin(angle))
 
 
+def crease_bend(sheet, name, size, angle, crease, band, turn):
+    """Bend ``sheet`` (its modifier ``name``) about a crease across the direction ``angle``.
+
+    The crease lies ``crease`` from the centre along ``(cos angle, sin angle)``; the part beyond
+    it bends over a band of ``band``, towards the camera or away as ``turn`` says
+    (``diagonal_towards_camera`` or ``diagonal_away``).
+    """
+    d = np.array((math.cos(angle), math.sin(angle)))
+    origin = deform_origin(sheet, (*(crease * d), 0.0), turn(angle))
+    bend(sheet, name, origin, limits=fold_limits(extent_along(size, angle), crease, band))
+
+
 def eased(t, keys):
     """Values at times ``t`` (s) eased (cosine) between ``keys`` [(seconds, value), ...].
 
@@ -501,9 +513,7 @@ def build_bag_fold_hands(rng, clip):
     origin = deform_origin(sheet, (0.0, 0.0, 0.0), diagonal_towards_camera(angle - math.pi / 2))
     bend(sheet, "Bow", origin)
     # ...and folds the upper left part back about the diagonal crease, over a band of BAG_BAND.
-    origin = deform_origin(sheet, (*(BAG_CREASE * d), 0.0), diagonal_away(angle))
-    limits = fold_limits(extent_along(size, angle), BAG_CREASE, BAG_BAND)
-    bend(sheet, "Fold", origin, limits=limits)
+    crease_bend(sheet, "Fold", size, angle, BAG_CREASE, BAG_BAND, diagonal_away)
     # The fold (keyed on every frame), from 0.4 s: 90 deg after about 0.25 s, folded flat
     # after about 0.45 s, its edge at a steady pace while in view; unfolds from 1.3 s. The
     # upper hand pushes the bag down and right (about 20 px) and turns it 4 deg.
@@ -609,9 +619,7 @@ def build_toy_tail_lift(rng, clip):
     # The soft toy gives where it is held: the part beyond LIFT_CREASE bends further away from
     # the camera over a band of 0.4, so that the patch turns 50 deg and that part 105 deg.
     angle = -tilt  # the direction across the axis
-    origin = deform_origin(sheet, (*(LIFT_CREASE * across), 0.0), diagonal_away(angle))
-    limits = fold_limits(extent_along(size, angle), LIFT_CREASE, 0.4)
-    bend(sheet, "Lift", origin, limits=limits)
+    crease_bend(sheet, "Lift", size, angle, LIFT_CREASE, 0.4, diagonal_away)
     clip.keyframe(
         pivot,
         {
@@ -679,10 +687,7 @@ def build_shirt_fold_print(rng, clip):
     # The top part folds down towards the camera about a crease tilted SHIRT_TILT deg, in a
     # soft loop: folded, it lies about 0.19 in front of the rest, its plain back to the camera.
     angle = math.radians(90.0 + SHIRT_TILT)
-    d = np.array((math.cos(angle), math.sin(angle)))
-    origin = deform_origin(sheet, (*(SHIRT_CREASE * d), 0.0), diagonal_towards_camera(angle))
-    limits = fold_limits(extent_along(size, angle), SHIRT_CREASE, SHIRT_BAND)
-    bend(sheet, "Fold", origin, limits=limits)
+    crease_bend(sheet, "Fold", size, angle, SHIRT_CREASE, SHIRT_BAND, diagonal_towards_camera)
     # Slowly while the print on the flap is in view, faster once it is past edge-on; unfolds
     # faster than it folded. The cloth slides left about 0.45 and part of the way back.
     x0, y0 = SHIRT_AT

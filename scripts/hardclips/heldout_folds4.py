@@ -77,7 +77,6 @@ from hardclips.folds import (
     FOLD_FILES,
     add_pushing_hand,
     fold_and_unfold,
-    fold_limits,
     paced_fold,
     plush_on_pivot,
     set_back_colour,
@@ -85,8 +84,8 @@ from hardclips.folds import (
 from hardclips.heldout_folds import diagonal_away, diagonal_towards_camera
 from hardclips.heldout_folds3 import (
     HAND_DEPTH,
+    crease_bend,
     eased,
-    extent_along,
     hand_pose,
     key_every_frame,
     object_matrices,
@@ -599,9 +598,7 @@ def build_kraft_bag_squeeze(rng, clip):
     origin = deform_origin(sheet, (0.0, 0.0, 0.0), diagonal_towards_camera(angle - math.pi / 2))
     bend(sheet, "Bow", origin)
     # ...and folds the bottom part back about the tilted crease, over a band of KRAFT_BAND.
-    origin = deform_origin(sheet, (*(KRAFT_CREASE * d), 0.0), diagonal_away(angle))
-    limits = fold_limits(extent_along(size, angle), KRAFT_CREASE, KRAFT_BAND)
-    bend(sheet, "Fold", origin, limits=limits)
+    crease_bend(sheet, "Fold", size, angle, KRAFT_CREASE, KRAFT_BAND, diagonal_away)
     # The fold (keyed on every frame), slow, from 0.45 s; unfolds from 1.75 s. The lower hand
     # pushes the bag up and left and turns it 5 deg (counter-clockwise).
     t = np.arange(clip.frames) / clip.fps
@@ -712,9 +709,7 @@ def build_fleece_tail_raise(rng, clip):
     # towards the camera over a band of FLEECE_BAND, so that the patch turns 35 deg and the
     # tail 115 deg, past edge-on, leaning back over the rest.
     angle = tilt - math.pi / 2  # the direction ``down``
-    origin = deform_origin(sheet, (*(FLEECE_CREASE * down), 0.0), diagonal_towards_camera(angle))
-    limits = fold_limits(extent_along(size, angle), FLEECE_CREASE, FLEECE_BAND)
-    bend(sheet, "Tail", origin, limits=limits)
+    crease_bend(sheet, "Tail", size, angle, FLEECE_CREASE, FLEECE_BAND, diagonal_towards_camera)
     clip.keyframe(
         pivot,
         {
@@ -777,10 +772,7 @@ def build_comic_page_fold(rng, clip):
     # from the vertical; folded, it lies about 0.11 in front of the rest, its plain back to
     # the camera.
     angle = math.radians(COMIC_ANGLE)
-    d = np.array((math.cos(angle), math.sin(angle)))
-    origin = deform_origin(sheet, (*(COMIC_CREASE * d), 0.0), diagonal_towards_camera(angle))
-    limits = fold_limits(extent_along(size, angle), COMIC_CREASE, COMIC_BAND)
-    bend(sheet, "Fold", origin, limits=limits)
+    crease_bend(sheet, "Fold", size, angle, COMIC_CREASE, COMIC_BAND, diagonal_towards_camera)
     # Fast over (0.65 s), slowly back (1.4 s); the page drifts down and right and turns 4 deg
     # clockwise meanwhile, and part of the way back.
     x0, y0 = COMIC_AT
