@@ -169,6 +169,29 @@ to tune it on and made only when named, apart from every other clip, into
     towards the camera, about a crease leaning 7 degrees from the vertical, fast, and unfolds
     slowly while the page drifts and turns a little.
 
+A fifth batch of held-out clips of folds (``hardclips/heldout_folds5.py``, paint there too),
+made after the fourth for issue 22's check that the tracker generalises, likewise never to
+tune it on and made only when named, apart from every other clip, into
+``samples/heldout_folds5``::
+
+    OMP_NUM_THREADS=1 .venv/bin/python scripts/render_hard_clips.py --out samples/heldout_folds5 \
+        --only felt_yaw_turn denim_corner_tuck bandana_diagonal_fold
+
+``felt_yaw_turn``
+    A folk-art felt coaster with appliqued flowers, held by a hand behind the middle of its
+    left edge, is turned as a whole (no crease) in depth about an axis through the hand
+    leaning 8 degrees from the vertical, its right edge away from the camera, to 75 degrees
+    (strongly foreshortened, not past edge-on) in 0.7 s, and back while it drifts; the hand
+    leaves.
+``denim_corner_tuck``
+    The lower right corner of a denim patch with iron-on patches folds back 180 degrees behind
+    the rest about a diagonal crease, at a medium speed, while a hand in from the upper right
+    lies over the upper right part; it holds, unfolds, and the hand leaves.
+``bandana_diagonal_fold``
+    The top left triangle of a square red paisley bandana folds over towards the camera by 180
+    degrees about a crease along (a little off) its diagonal, fast, and unfolds slowly while
+    the cloth turns 8 degrees and drifts.
+
 Everything is seeded: the same command makes the same scenes, truth and outlines (Cycles runs
 seeded on one thread, so the renders should repeat too). The seven tuned clips, which a run
 without ``--only`` renders, take about 50 minutes; the held-out, several-doll and fold clips are
@@ -189,12 +212,13 @@ from hardclips.heldout_folds import HELDOUT_FOLDS
 from hardclips.heldout_folds2 import HELDOUT_FOLDS2
 from hardclips.heldout_folds3 import HELDOUT_FOLDS3
 from hardclips.heldout_folds4 import HELDOUT_FOLDS4
+from hardclips.heldout_folds5 import HELDOUT_FOLDS5
 from hardclips.make import make_clip, write_readme
 from hardclips.multi import MULTI
 from hardclips.scenarios import CLIPS
 
 EVERY = CLIPS + HELDOUT + MULTI + FOLDS
-EVERY += HELDOUT_FOLDS + HELDOUT_FOLDS2 + HELDOUT_FOLDS3 + HELDOUT_FOLDS4
+EVERY += HELDOUT_FOLDS + HELDOUT_FOLDS2 + HELDOUT_FOLDS3 + HELDOUT_FOLDS4 + HELDOUT_FOLDS5
 
 
 def parse_args(argv=None):
@@ -236,6 +260,8 @@ def main(argv=None):
             raise SystemExit("make the third held-out fold clips apart from the others, elsewhere")
         if any(c in HELDOUT_FOLDS4 for c in clips) and any(c not in HELDOUT_FOLDS4 for c in clips):
             raise SystemExit("make the fourth held-out fold clips apart from the others, elsewhere")
+        if any(c in HELDOUT_FOLDS5 for c in clips) and any(c not in HELDOUT_FOLDS5 for c in clips):
+            raise SystemExit("make the fifth held-out fold clips apart from the others, elsewhere")
     total = 0.0
     for clip in clips:
         total += make_clip(clip, args.out, args.draft, args.truth_only)
@@ -248,6 +274,7 @@ def main(argv=None):
             HELDOUT_FOLDS2,
             HELDOUT_FOLDS3,
             HELDOUT_FOLDS4,
+            HELDOUT_FOLDS5,
         )
         group = next((g for g in groups if clips[0] in g), CLIPS)
         write_readme(args.out, group)

@@ -19,6 +19,7 @@ from hardclips.heldout_folds import HELDOUT_FOLDS, README_HELDOUT_FOLDS
 from hardclips.heldout_folds2 import HELDOUT_FOLDS2, README_HELDOUT_FOLDS2
 from hardclips.heldout_folds3 import HELDOUT_FOLDS3, README_HELDOUT_FOLDS3
 from hardclips.heldout_folds4 import HELDOUT_FOLDS4, README_HELDOUT_FOLDS4
+from hardclips.heldout_folds5 import HELDOUT_FOLDS5, README_HELDOUT_FOLDS5
 from hardclips.multi import MULTI
 from hardclips.scenarios import CLIPS
 from hardclips.scene import HEIGHT, SEED, WIDTH, new_scene
@@ -32,8 +33,10 @@ def clip_number(clip):
     Its place in ``CLIPS``; held-out clips: 100 + in ``HELDOUT``; several dolls: 200 + in ``MULTI``;
     folds: 300 + in ``FOLDS``; held-out folds: 400 + in ``HELDOUT_FOLDS``, the second batch 500 +
     in ``HELDOUT_FOLDS2``, the third 600 + in ``HELDOUT_FOLDS3``, the fourth 700 + in
-    ``HELDOUT_FOLDS4``.
+    ``HELDOUT_FOLDS4``, the fifth 800 + in ``HELDOUT_FOLDS5``.
     """
+    if clip in HELDOUT_FOLDS5:
+        return 800 + HELDOUT_FOLDS5.index(clip)
     if clip in HELDOUT_FOLDS4:
         return 700 + HELDOUT_FOLDS4.index(clip)
     if clip in HELDOUT_FOLDS3:
@@ -171,7 +174,7 @@ def write_readme(out, clips=CLIPS):
     """``out``/README.md: how the clips were made, what they hold, one row per clip.
 
     ``clips`` is ``CLIPS``, ``HELDOUT``, ``MULTI``, ``FOLDS``, ``HELDOUT_FOLDS``,
-    ``HELDOUT_FOLDS2``, ``HELDOUT_FOLDS3`` or ``HELDOUT_FOLDS4``.
+    ``HELDOUT_FOLDS2``, ``HELDOUT_FOLDS3``, ``HELDOUT_FOLDS4`` or ``HELDOUT_FOLDS5``.
     """
     making = MAKING if clips is CLIPS else MAKING_HELDOUT
     rows = []
@@ -200,6 +203,8 @@ def write_readme(out, clips=CLIPS):
         text = README_HELDOUT_FOLDS3.format(**shared, visibility=visibility_rows(out, clips))
     elif clips is HELDOUT_FOLDS4:
         text = README_HELDOUT_FOLDS4.format(**shared, visibility=visibility_rows(out, clips))
+    elif clips is HELDOUT_FOLDS5:
+        text = README_HELDOUT_FOLDS5.format(**shared, visibility=visibility_rows(out, clips))
     elif clips is MULTI:
         text = README_MULTI.format(**shared)
     else:
