@@ -11,6 +11,8 @@ from voodoo_addon.devtools.folds import (
     HELDOUT_FOLDS2,
     HELDOUT_FOLDS3,
     HELDOUT_FOLDS4,
+    HELDOUT_FOLDS5,
+    RETURNED,
     fold_clips,
     nearest_modal,
     run_fold_clip,
@@ -140,6 +142,7 @@ HELD_OUT = fold_clips(HELDOUT_FOLDS)
 HELD_OUT_2 = fold_clips(HELDOUT_FOLDS2)
 HELD_OUT_3 = fold_clips(HELDOUT_FOLDS3)
 HELD_OUT_4 = fold_clips(HELDOUT_FOLDS4)
+HELD_OUT_5 = fold_clips(HELDOUT_FOLDS5)
 #: Held-out clips the tracker does not pass yet (BENCHMARKS.md, *A third held-out batch*).
 FAILING = {
     # A furry patch turned 50 deg about a tilted axis, its far part past edge-on: the
@@ -171,14 +174,14 @@ SHORT = {
         pytest.param(clip, marks=pytest.mark.xfail(reason=FAILING[clip.name]))
         if clip.name in FAILING
         else clip
-        for clip in FOLDS + HELD_OUT + HELD_OUT_2 + HELD_OUT_3 + HELD_OUT_4
+        for clip in FOLDS + HELD_OUT + HELD_OUT_2 + HELD_OUT_3 + HELD_OUT_4 + HELD_OUT_5
     ],
     ids=lambda clip: clip.name,
 )
 def test_fold_clip_against_klt_and_dis(clip):
     """On the renders of folds: no folded frame, a smaller node error on the seen nodes
-    than KLT's and DIS's, no frame lost while a third of the doll is in view, and the
-    hidden part back under a pixel soon after it is open again.
+    than KLT's and DIS's, no frame lost while a third of the doll is in view, and, where a
+    part goes out of view, that part back under a pixel soon after it is open again.
 
     The issue asks for no lost frame and 10 frames; BENCHMARKS.md has the figures on each
     NumPy line (counted from the part's first showing, nearly edge-on, several clips take
@@ -194,6 +197,8 @@ def test_fold_clip_against_klt_and_dis(clip):
     assert ours["error_px"] < rows["klt"]["error_px"], brief
     assert ours["error_px"] < short.get("dis", 1.0) * rows["dis"]["error_px"], brief
     assert ours["lost_in_third"] <= short.get("lost", 0), brief
+    if ours["least_seen"] >= RETURNED:
+        return  # a whole doll turned in depth: foreshortened, but no part goes out of view
     assert ours["opened_at"] is not None
     assert ours["open_recovery_frames"] is not None and ours["open_recovery_frames"] <= 10
 
