@@ -54,6 +54,7 @@ from hardclips.sheet import (
     deform_origin,
     deg,
     finish_sheet,
+    set_sheen,
 )
 
 # Origin rotations for bend(), besides those of ``sheet``: local X along world +X and local +Y
@@ -268,12 +269,7 @@ def plush_on_pivot(rng, paint, size, grid, pivot_x, sheen):
     sheet, the pivot).
     """
     sheet = add_sheet(paint, size, grid, 4, rng=rng, roughness=0.95, specular=0.15, thickness=0.06)
-    material = sheet.obj.data.materials[0]
-    bsdf = material.node_tree.nodes["Principled BSDF"]
-    weight, roughness, tint = sheen
-    bsdf.inputs["Sheen Weight"].default_value = weight
-    bsdf.inputs["Sheen Roughness"].default_value = roughness
-    bsdf.inputs["Sheen Tint"].default_value = tint
+    set_sheen(sheet, *sheen)
     pivot = bpy.data.objects.new("Pivot", None)
     pivot.location = (pivot_x, 0.0, 0.0)
     bpy.context.scene.collection.objects.link(pivot)

@@ -69,6 +69,7 @@ from hardclips.sheet import (
     deform_origin,
     deg,
     finish_sheet,
+    set_sheen,
 )
 from hardclips.video import srgb_to_linear
 
@@ -305,9 +306,7 @@ def build_cloth_corner_fold(rng, clip):
         specular=0.2,
         thickness=0.012,
     )
-    bsdf = sheet.obj.data.materials[0].node_tree.nodes["Principled BSDF"]
-    bsdf.inputs["Sheen Weight"].default_value = 0.3  # cotton
-    bsdf.inputs["Sheen Roughness"].default_value = 0.5
+    set_sheen(sheet, 0.3, 0.5)  # cotton
     # The bottom right corner folds towards the camera about a diagonal crease over a band of
     # 0.16: folded, it lies about 0.1 in front of the rest, its plain back to the camera. Along
     # the fold's direction the sheet spans ``extent``, centred on the sheet's centre.

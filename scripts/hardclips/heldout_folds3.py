@@ -82,7 +82,7 @@ from hardclips.folds import (
 from hardclips.heldout_folds import diagonal_away, diagonal_towards_camera
 from hardclips.materials import studio_lights
 from hardclips.scene import Clip
-from hardclips.sheet import add_sheet, bend, deform_origin, deg, finish_sheet
+from hardclips.sheet import add_sheet, bend, deform_origin, deg, finish_sheet, set_sheen
 from hardclips.truth import evaluated_grid
 from hardclips.video import srgb_to_linear
 
@@ -681,9 +681,7 @@ def build_shirt_fold_print(rng, clip):
         specular=0.2,
         thickness=0.012,
     )
-    bsdf = sheet.obj.data.materials[0].node_tree.nodes["Principled BSDF"]
-    bsdf.inputs["Sheen Weight"].default_value = 0.35  # cotton
-    bsdf.inputs["Sheen Roughness"].default_value = 0.45
+    set_sheen(sheet, 0.35, 0.45)  # cotton
     # The top part folds down towards the camera about a crease tilted SHIRT_TILT deg, in a
     # soft loop: folded, it lies about 0.19 in front of the rest, its plain back to the camera.
     angle = math.radians(90.0 + SHIRT_TILT)

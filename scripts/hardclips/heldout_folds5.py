@@ -94,7 +94,7 @@ from hardclips.heldout_folds3 import (
 )
 from hardclips.materials import studio_lights
 from hardclips.scene import Clip
-from hardclips.sheet import add_sheet, deg, finish_sheet
+from hardclips.sheet import add_sheet, deg, finish_sheet, set_sheen
 from hardclips.video import srgb_to_linear
 
 # --- paint ----------------------------------------------------------------------------------
@@ -793,9 +793,7 @@ def build_denim_corner_tuck(rng, clip):
         specular=0.2,
         thickness=0.02,
     )
-    bsdf = sheet.obj.data.materials[0].node_tree.nodes["Principled BSDF"]
-    bsdf.inputs["Sheen Weight"].default_value = 0.2  # cotton twill
-    bsdf.inputs["Sheen Roughness"].default_value = 0.5
+    set_sheen(sheet, 0.2, 0.5)  # cotton twill
     # The lower right corner folds back behind the rest about a diagonal crease (from the
     # bottom edge left of the middle up to the right edge near the top), over a band of
     # DENIM_BAND.
@@ -856,9 +854,7 @@ def build_bandana_diagonal_fold(rng, clip):
         specular=0.2,
         thickness=0.008,
     )
-    bsdf = sheet.obj.data.materials[0].node_tree.nodes["Principled BSDF"]
-    bsdf.inputs["Sheen Weight"].default_value = 0.3  # cotton
-    bsdf.inputs["Sheen Roughness"].default_value = 0.45
+    set_sheen(sheet, 0.3, 0.45)  # cotton
     # The top left triangle folds over towards the camera about a crease (nearly) parallel to
     # the diagonal, BANDANA_CREASE off it towards the top left corner, and lies over the rest
     # about 0.1 in front of it, its plain back to the camera.

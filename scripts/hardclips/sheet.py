@@ -47,6 +47,15 @@ def add_sheet(texture, size, segments, stride, roughness=0.85, thickness=FOAM_TH
     return Sheet(obj, size, segments, stride)
 
 
+def set_sheen(sheet, weight, roughness, tint=None):
+    """Give the sheet's paint a sheen (velvety at grazing angles: cloth, fur)."""
+    bsdf = sheet.obj.data.materials[0].node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Sheen Weight"].default_value = weight
+    bsdf.inputs["Sheen Roughness"].default_value = roughness
+    if tint is not None:
+        bsdf.inputs["Sheen Tint"].default_value = tint
+
+
 def finish_sheet(sheet):
     """Solidify the sheet (after its deformers) so that it has a back and a rim."""
     thickness = sheet.obj["thickness"]
