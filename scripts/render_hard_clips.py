@@ -206,19 +206,10 @@ before bpy starts.
 import argparse
 from pathlib import Path
 
-from hardclips.folds import FOLDS
-from hardclips.heldout import HELDOUT  # scripts/ is on sys.path; hardclips pins one core
-from hardclips.heldout_folds import HELDOUT_FOLDS
-from hardclips.heldout_folds2 import HELDOUT_FOLDS2
-from hardclips.heldout_folds3 import HELDOUT_FOLDS3
-from hardclips.heldout_folds4 import HELDOUT_FOLDS4
-from hardclips.heldout_folds5 import HELDOUT_FOLDS5
-from hardclips.make import make_clip, write_readme
-from hardclips.multi import MULTI
+from hardclips.make import GROUPS, make_clip, write_readme  # scripts/ on sys.path; pins one core
 from hardclips.scenarios import CLIPS
 
-EVERY = CLIPS + HELDOUT + MULTI + FOLDS
-EVERY += HELDOUT_FOLDS + HELDOUT_FOLDS2 + HELDOUT_FOLDS3 + HELDOUT_FOLDS4 + HELDOUT_FOLDS5
+EVERY = CLIPS + [clip for group in GROUPS for clip in group.clips]
 
 
 def parse_args(argv=None):
@@ -246,37 +237,14 @@ def main(argv=None):
         clips = CLIPS  # never the held-out clips
     else:
         clips = [c for c in EVERY if c.name in args.only]
-        if any(c in HELDOUT for c in clips) and any(c in CLIPS for c in clips):
-            raise SystemExit("make the held-out clips apart from the others, in another folder")
-        if any(c in MULTI for c in clips) and any(c not in MULTI for c in clips):
-            raise SystemExit("make the clips of several dolls apart from the others")
-        if any(c in FOLDS for c in clips) and any(c not in FOLDS for c in clips):
-            raise SystemExit("make the clips of folds apart from the others")
-        if any(c in HELDOUT_FOLDS for c in clips) and any(c not in HELDOUT_FOLDS for c in clips):
-            raise SystemExit("make the held-out clips of folds apart from the others, elsewhere")
-        if any(c in HELDOUT_FOLDS2 for c in clips) and any(c not in HELDOUT_FOLDS2 for c in clips):
-            raise SystemExit("make the second held-out fold clips apart from the others, elsewhere")
-        if any(c in HELDOUT_FOLDS3 for c in clips) and any(c not in HELDOUT_FOLDS3 for c in clips):
-            raise SystemExit("make the third held-out fold clips apart from the others, elsewhere")
-        if any(c in HELDOUT_FOLDS4 for c in clips) and any(c not in HELDOUT_FOLDS4 for c in clips):
-            raise SystemExit("make the fourth held-out fold clips apart from the others, elsewhere")
-        if any(c in HELDOUT_FOLDS5 for c in clips) and any(c not in HELDOUT_FOLDS5 for c in clips):
-            raise SystemExit("make the fifth held-out fold clips apart from the others, elsewhere")
+        for group in GROUPS:
+            if any(c in group.clips for c in clips) and any(c not in group.clips for c in clips):
+                raise SystemExit(f"make {group.name} apart from the others, in another folder")
     total = 0.0
     for clip in clips:
         total += make_clip(clip, args.out, args.draft, args.truth_only)
     if not (args.draft or args.truth_only):
-        groups = (
-            HELDOUT,
-            MULTI,
-            FOLDS,
-            HELDOUT_FOLDS,
-            HELDOUT_FOLDS2,
-            HELDOUT_FOLDS3,
-            HELDOUT_FOLDS4,
-            HELDOUT_FOLDS5,
-        )
-        group = next((g for g in groups if clips[0] in g), CLIPS)
+        group = next((g.clips for g in GROUPS if clips[0] in g.clips), CLIPS)
         write_readme(args.out, group)
     print(f"rendering took {total:.0f} s in all")
 

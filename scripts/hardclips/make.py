@@ -7,6 +7,7 @@ import json
 import tempfile
 import time
 from pathlib import Path
+from typing import NamedTuple
 
 import bpy
 
@@ -27,29 +28,42 @@ from hardclips.truth import lattice_truth, region_outline
 from hardclips.video import NOISE_SIGMA, develop, encode, render_frames
 
 
+class Group(NamedTuple):
+    """The clips made apart from the tuned ones, into a folder of their own."""
+
+    clips: list
+    #: The number the first clip's scene is seeded with (the next clip's is one more).
+    first: int
+    #: What they are called, in the message when they are asked for with other clips.
+    name: str
+    #: Their folder's README, with a table of how much of each sheet is visible (None: the
+    #: README of the hard clips, or of several dolls).
+    readme: str | None = None
+
+
+#: Every group but the tuned clips (``CLIPS``, numbered from 0), in the order they were made.
+GROUPS = (
+    Group(HELDOUT, 100, "the held-out clips"),
+    Group(MULTI, 200, "the clips of several dolls"),
+    Group(FOLDS, 300, "the clips of folds", README_FOLDS),
+    Group(HELDOUT_FOLDS, 400, "the held-out clips of folds", README_HELDOUT_FOLDS),
+    Group(HELDOUT_FOLDS2, 500, "the second held-out fold clips", README_HELDOUT_FOLDS2),
+    Group(HELDOUT_FOLDS3, 600, "the third held-out fold clips", README_HELDOUT_FOLDS3),
+    Group(HELDOUT_FOLDS4, 700, "the fourth held-out fold clips", README_HELDOUT_FOLDS4),
+    Group(HELDOUT_FOLDS5, 800, "the fifth held-out fold clips", README_HELDOUT_FOLDS5),
+)
+
+
 def clip_number(clip):
     """The clip's number, which seeds its scene.
 
-    Its place in ``CLIPS``; held-out clips: 100 + in ``HELDOUT``; several dolls: 200 + in ``MULTI``;
-    folds: 300 + in ``FOLDS``; held-out folds: 400 + in ``HELDOUT_FOLDS``, the second batch 500 +
-    in ``HELDOUT_FOLDS2``, the third 600 + in ``HELDOUT_FOLDS3``, the fourth 700 + in
-    ``HELDOUT_FOLDS4``, the fifth 800 + in ``HELDOUT_FOLDS5``.
+    Its place in ``CLIPS``, or in its group counted from the group's ``first`` (see
+    :data:`GROUPS`).
     """
-    if clip in HELDOUT_FOLDS5:
-        return 800 + HELDOUT_FOLDS5.index(clip)
-    if clip in HELDOUT_FOLDS4:
-        return 700 + HELDOUT_FOLDS4.index(clip)
-    if clip in HELDOUT_FOLDS3:
-        return 600 + HELDOUT_FOLDS3.index(clip)
-    if clip in HELDOUT_FOLDS2:
-        return 500 + HELDOUT_FOLDS2.index(clip)
-    if clip in HELDOUT_FOLDS:
-        return 400 + HELDOUT_FOLDS.index(clip)
-    if clip in FOLDS:
-        return 300 + FOLDS.index(clip)
-    if clip in MULTI:
-        return 200 + MULTI.index(clip)
-    return CLIPS.index(clip) if clip in CLIPS else 100 + HELDOUT.index(clip)
+    for group in GROUPS:
+        if clip in group.clips:
+            return group.first + group.clips.index(clip)
+    return CLIPS.index(clip)
 
 
 def doll_files(clip, doll):
@@ -173,8 +187,7 @@ the perspective camera, apart from the others and at rest for three frames.
 def write_readme(out, clips=CLIPS):
     """``out``/README.md: how the clips were made, what they hold, one row per clip.
 
-    ``clips`` is ``CLIPS``, ``HELDOUT``, ``MULTI``, ``FOLDS``, ``HELDOUT_FOLDS``,
-    ``HELDOUT_FOLDS2``, ``HELDOUT_FOLDS3``, ``HELDOUT_FOLDS4`` or ``HELDOUT_FOLDS5``.
+    ``clips`` is ``CLIPS`` or the clips of one of :data:`GROUPS`.
     """
     making = MAKING if clips is CLIPS else MAKING_HELDOUT
     rows = []
@@ -193,18 +206,9 @@ def write_readme(out, clips=CLIPS):
         "noise": 100 * NOISE_SIGMA,
         "rows": "\n".join(rows),
     }
-    if clips is FOLDS:
-        text = README_FOLDS.format(**shared, visibility=visibility_rows(out, clips))
-    elif clips is HELDOUT_FOLDS:
-        text = README_HELDOUT_FOLDS.format(**shared, visibility=visibility_rows(out, clips))
-    elif clips is HELDOUT_FOLDS2:
-        text = README_HELDOUT_FOLDS2.format(**shared, visibility=visibility_rows(out, clips))
-    elif clips is HELDOUT_FOLDS3:
-        text = README_HELDOUT_FOLDS3.format(**shared, visibility=visibility_rows(out, clips))
-    elif clips is HELDOUT_FOLDS4:
-        text = README_HELDOUT_FOLDS4.format(**shared, visibility=visibility_rows(out, clips))
-    elif clips is HELDOUT_FOLDS5:
-        text = README_HELDOUT_FOLDS5.format(**shared, visibility=visibility_rows(out, clips))
+    folds = next((g.readme for g in GROUPS if g.clips is clips and g.readme), None)
+    if folds is not None:
+        text = folds.format(**shared, visibility=visibility_rows(out, clips))
     elif clips is MULTI:
         text = README_MULTI.format(**shared)
     else:
