@@ -307,6 +307,7 @@ def _num(value) -> str:
 
 def main(argv=None) -> int:
     import argparse
+    import dataclasses
     import json
 
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -317,8 +318,18 @@ def main(argv=None) -> int:
     p.add_argument(
         "--camera", choices=sorted(CAMERAS), help="put a camera's faults on the frames first"
     )
+    p.add_argument(
+        "--seed",
+        type=int,
+        help="with --camera, another draw of its sensor noise: a change is real only if it "
+        "holds over several",
+    )
     args = p.parse_args(argv)
+    if args.seed is not None and not args.camera:
+        p.error("--seed needs --camera")
     camera = CAMERAS[args.camera] if args.camera else None
+    if args.seed is not None:
+        camera = dataclasses.replace(camera, seed=args.seed)
     rows = []
     for clip in fold_clips(args.root) if args.root else fold_suite():
         if args.only and clip.name not in args.only:
