@@ -392,6 +392,28 @@ def test_a_futile_feature_search_is_not_repeated_until_the_fit_worsens(monkeypat
     assert matcher.calls == before + 1
 
 
+def test_a_futile_feature_search_is_made_again_every_few_frames(monkeypatch):
+    """A fit that never gets worse does not stop the search for good: a doll left in a wrong
+    pose while half of it was turned away is found when it opens, though the wrong pose
+    fits no worse. The search is made again every ``FUTILE_FRAMES`` frames, not on every
+    frame."""
+    from voodoo_addon.tracking import tracker as tracker_module
+
+    take = scenario("mixed")
+    monkeypatch.setattr(tracker_module, "FEATURES_BELOW", 1.0)  # every frame "fits poorly"
+    tracker = Tracker(take.blob, options=TrackerOptions(propose_below=1.0))
+    tracker._matcher = matcher = _CountingMatcher()
+    searched = []
+    for i in range(3 * tracker_module.FUTILE_FRAMES + 1):
+        before = matcher.calls
+        assert not tracker.track(take.frames[-1]).lost  # the same frame: the fit stays as good
+        if matcher.calls > before:
+            searched.append(i)
+    step = tracker_module.FUTILE_FRAMES
+    assert searched == [searched[0] + k * step for k in range(len(searched))], searched
+    assert len(searched) >= 3, searched
+
+
 def test_a_doll_fitting_too_poorly_is_searched_for_as_a_lost_one(monkeypatch):
     """Features are sought as for a lost doll (fainter ones, where its template has few)
     once the frame's fit is less sure than a re-acquisition must be; a doll fitting well

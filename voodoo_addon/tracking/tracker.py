@@ -32,8 +32,15 @@ from .warp import CpuWarp, WarpBackend
 #: is enough.
 FEATURES_BELOW = 0.45
 #: A feature start that fits no better than the other starts was futile: the next frames
-#: look for features again only once their fit is worse by this much.
+#: look for features again only once their fit is worse by this much, or after
+#: :data:`FUTILE_FRAMES` frames. A doll folded or turned away shows too few of its features;
+#: when it opens again they show, though the fit of the wrong pose it was left in need not
+#: get any worse (``plush_flip`` through a webcam: 20-30 px off at a steady 0.2 for 40
+#: frames while the template's features would have found it at 0.9).
 FUTILE_DROP = 0.02
+FUTILE_FRAMES = 8
+#: A search made again (:data:`FUTILE_FRAMES`) is taken only when its fit is surer by this.
+AGAIN_GAIN = 0.15
 #: A fit below ``reacquire_above`` whose nodes moved more than this many RMS radii from the
 #: last frame's is taken for lost (see ``Tracker._found``).
 LEAP = 0.15
@@ -156,6 +163,7 @@ class Tracker:
         self._last_residual = None
         self._previous = None
         self._futile = np.inf
+        self._futile_age = 0
         self._points_likely = False
         self._local.reset()
         self.fitter.set_base(None)
@@ -212,6 +220,7 @@ class Tracker:
     def _track(self, frame: np.ndarray, pending: Future | None = None) -> TrackResult:
         opt = self.options
         was_lost = self.lost
+        self._futile_age += 1
         need = opt.reacquire_above if was_lost else opt.lost_below
         # While a crease is followed, the modal fit starts from the creased shape.
         following = not was_lost and self.fitter.creases.line is not None
@@ -253,8 +262,12 @@ class Tracker:
                 # Features that found nothing better will not, until the fit gets worse.
                 gained = other is not None and other.confidence > fit.confidence
                 self._futile = np.inf if gained else fit.confidence - FUTILE_DROP
+                self._futile_age = 0
                 if other is not None:
                     fit, its = self._better(fit, other, its)
+            elif fit.confidence < below and self._futile_age >= FUTILE_FRAMES:
+                tried_features = True
+                fit, its = self._features_again(frame, fit, its)
         if not was_lost:
             fit, its = self._hidden_part(frame, fit, its)
         # No fit finds the doll: it may simply not have moved, and the fits ran off from
@@ -386,6 +399,30 @@ class Tracker:
     def _finds(self, fit: Fit) -> bool:
         """:meth:`_found` on the fit's own quality (a fit without one finds nothing)."""
         return fit.quality is not None and self._found(fit, fit.quality)
+
+    def _features_again(self, frame, fit: Fit, its: int):
+        """Features looked for again, :data:`FUTILE_FRAMES` after they were futile.
+
+        Fainter ones too when the plain ones give no start and the doll fits less surely
+        than a re-acquisition must. Their fit is taken only when it is surer than ``fit``
+        by :data:`AGAIN_GAIN`, and a futile search changes nothing but when the next is
+        made: near a part still turned away, a feature start fitting a hair better places
+        that part worse.
+        """
+        opt = self.options
+        self._futile_age = 0
+        faint = fit.in_view < opt.reacquire_above
+        guess = self._feature_start(frame, faint=faint)
+        if guess is None and not faint and fit.confidence < opt.reacquire_above:
+            guess = self._feature_start(frame, faint=True)
+        if guess is None:
+            return fit, its
+        other = self._fit(frame, [guess])
+        its += other.iterations
+        if other.confidence > fit.confidence + AGAIN_GAIN:
+            self._futile = np.inf
+            return other, its
+        return fit, its
 
     def _keep_frozen(self, guess: np.ndarray) -> np.ndarray:
         frozen = list(self.frozen)
