@@ -2,10 +2,13 @@
 part still in view, is lost only when too little of it is, and the hidden part is found
 again when it comes back (tracking.evaluation, tracking.confidence, tracking.tracker)."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
 from voodoo_addon.blob.build import build_blob
+from voodoo_addon.devtools.camera import CAMERAS
 from voodoo_addon.devtools.folds import (
     HELDOUT_FOLDS,
     HELDOUT_FOLDS2,
@@ -211,10 +214,6 @@ def test_a_doll_left_in_a_wrong_pose_is_found_by_its_features_once_it_opens():
     few frames (``tracker.FUTILE_FRAMES``) and finds the doll at 0.9: before, the mesh
     stayed 20-32 px off from the return to the end of the clip (13.41 px over the clip,
     DIS 9.40), recovering never."""
-    from dataclasses import replace
-
-    from voodoo_addon.devtools.camera import CAMERAS
-
     clip = next(c for c in HELD_OUT if c.name == "plush_flip")
     rows = run_fold_clip(clip, ("ours", "dis"), camera=replace(CAMERAS["webcam"], seed=1))
     ours, dis = rows

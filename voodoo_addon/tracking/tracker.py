@@ -255,19 +255,10 @@ class Tracker:
             if guess is not None:
                 fit, its = self._better(fit, self._fit(frame, [guess]), its)
             below = opt.propose_below if guess is None else FEATURES_BELOW
-            if fit.confidence < min(below, self._futile):
+            again = self._futile <= fit.confidence and self._futile_age >= FUTILE_FRAMES
+            if fit.confidence < below and (fit.confidence < self._futile or again):
                 tried_features = True
-                guess = self._feature_start(frame, faint=fit.in_view < opt.reacquire_above)
-                other = None if guess is None else self._fit(frame, [guess])
-                # Features that found nothing better will not, until the fit gets worse.
-                gained = other is not None and other.confidence > fit.confidence
-                self._futile = np.inf if gained else fit.confidence - FUTILE_DROP
-                self._futile_age = 0
-                if other is not None:
-                    fit, its = self._better(fit, other, its)
-            elif fit.confidence < below and self._futile_age >= FUTILE_FRAMES:
-                tried_features = True
-                fit, its = self._features_again(frame, fit, its)
+                fit, its = self._search_features(frame, fit, its, again)
         if not was_lost:
             fit, its = self._hidden_part(frame, fit, its)
         # No fit finds the doll: it may simply not have moved, and the fits ran off from
@@ -400,28 +391,31 @@ class Tracker:
         """:meth:`_found` on the fit's own quality (a fit without one finds nothing)."""
         return fit.quality is not None and self._found(fit, fit.quality)
 
-    def _features_again(self, frame, fit: Fit, its: int):
-        """Features looked for again, :data:`FUTILE_FRAMES` after they were futile.
+    def _search_features(self, frame, fit: Fit, its: int, again: bool):
+        """The fit from the template's features, when it beats ``fit``; (fit, iterations).
 
-        Fainter ones too when the plain ones give no start and the doll fits less surely
-        than a re-acquisition must. Their fit is taken only when it is surer than ``fit``
-        by :data:`AGAIN_GAIN`, and a futile search changes nothing but when the next is
-        made: near a part still turned away, a feature start fitting a hair better places
-        that part worse.
+        Features that find nothing better are futile: they are not looked for again until
+        the fit is :data:`FUTILE_DROP` worse, or :data:`FUTILE_FRAMES` frames later
+        (``again``). A search made again looks for faint features too when the plain ones
+        give no start and the doll fits less surely than a re-acquisition must; its fit is
+        taken only when it is surer by :data:`AGAIN_GAIN`, and when it is not, the futile
+        mark stays as it was: near a part still turned away, a feature start fitting a hair
+        better places that part worse.
         """
         opt = self.options
         self._futile_age = 0
         faint = fit.in_view < opt.reacquire_above
         guess = self._feature_start(frame, faint=faint)
-        if guess is None and not faint and fit.confidence < opt.reacquire_above:
+        if guess is None and again and not faint and fit.confidence < opt.reacquire_above:
             guess = self._feature_start(frame, faint=True)
-        if guess is None:
-            return fit, its
-        other = self._fit(frame, [guess])
-        its += other.iterations
-        if other.confidence > fit.confidence + AGAIN_GAIN:
-            self._futile = np.inf
-            return other, its
+        other = None if guess is None else self._fit(frame, [guess])
+        if other is not None:
+            its += other.iterations
+            if other.confidence > fit.confidence + (AGAIN_GAIN if again else 0.0):
+                self._futile = np.inf
+                return other, its
+        if not again:
+            self._futile = fit.confidence - FUTILE_DROP
         return fit, its
 
     def _keep_frozen(self, guess: np.ndarray) -> np.ndarray:
