@@ -156,3 +156,45 @@ def test_channel_sums_are_the_bincounts_they_replace_to_the_last_bit():
     su = s * use
     for row, weights in enumerate((use, use * t, use * t * t, su, su * su, t * su)):
         np.testing.assert_array_equal(out[row], np.bincount(key, weights, minlength=32))
+
+
+@pytest.mark.parametrize("lit", [False, True])
+def test_mix_look_is_the_numpy_mix_to_the_last_bit(lit):
+    t = RNG.uniform(0, 1, (300, 3)).astype(np.float32)
+    s = RNG.uniform(0, 1, (300, 3)).astype(np.float32)
+    use = RNG.uniform(size=300) > 0.2
+    c = np.array([1.1, 0.95, 1.02]) if lit else np.ones(3)
+    b = np.array([0.03, -0.01, 0.0]) if lit else np.zeros(3)
+    anchor = 0.37
+    out = np.empty_like(t)
+    kernels.mix_look(t, s, use, c, b, anchor, out)
+    seen = (s.astype(np.float64) - b) / c
+    want = np.where(use[:, None], anchor * t + (1.0 - anchor) * seen, t).astype(np.float32)
+    np.testing.assert_array_equal(out, want)
+
+
+def test_dropped_rows_and_gathered_columns_are_the_numpy_selection():
+    triangle = RNG.integers(0, 9, 200).astype(np.int64)
+    weight = (RNG.uniform(size=9) > 0.3).astype(np.float64)
+    use = RNG.uniform(size=200) > 0.4
+    rows = np.empty(600, np.int64)
+    k = kernels.dropped_rows(weight, triangle, use, rows)
+    gone = np.nonzero((weight > 0)[triangle] & ~use)[0]
+    np.testing.assert_array_equal(rows[:k], (3 * gone[:, None] + np.arange(3)).ravel())
+    jac = RNG.standard_normal((5, 600)).astype(np.float32)
+    out = np.empty((5, k))
+    kernels.gather_columns(jac, rows[:k], out)
+    np.testing.assert_array_equal(out, jac[:, rows[:k]].astype(np.float64))
+
+
+def test_the_occlusion_tests_median_and_quantile_are_numpys_to_the_last_bit():
+    from voodoo_addon.tracking.evaluation import _median, _quantile
+
+    for n in range(1, 60):
+        for _ in range(20):
+            x = RNG.uniform(-1, 1, n)
+            if n % 3 == 0:
+                x = np.round(x, 1)  # ties
+            ordered = np.sort(x)
+            assert _median(ordered) == np.median(x)
+            assert _quantile(ordered, 1.0 - 1.0 / 3.0) == np.quantile(x, 1.0 - 1.0 / 3.0)

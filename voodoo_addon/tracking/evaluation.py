@@ -19,6 +19,7 @@ its mean error too little for the triangle test, yet pull the nodes off the doll
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -217,7 +218,7 @@ def evaluate(
             limit = outlier_factor * max(float(np.median(r_tri[seen])), floor)
             out = seen & (r_tri > limit)
             if compare.correlation is not None:
-                low = np.nan_to_num(compare.correlation, nan=1.0) < OCCLUDED_CORRELATION
+                low = compare.correlation < OCCLUDED_CORRELATION  # NaN (untextured): not low
                 out |= seen & low[level.patch_of_triangle]
             if not out.any() or size[out].sum() > most * size[seen].sum():
                 out[:] = False
@@ -386,11 +387,35 @@ def _coverable(correlation) -> float:
     """
     if correlation is None:
         return MAX_OCCLUDED
-    known = correlation[np.isfinite(correlation)]
+    known = np.sort(correlation[np.isfinite(correlation)])
     if not len(known):
         return 0.0
-    if float(np.median(known)) >= ALIGNED_CORRELATION:
+    if _median(known) >= ALIGNED_CORRELATION:
         return MAX_OCCLUDED
-    if float(np.quantile(known, 1.0 - MIN_IN_VIEW)) >= IN_VIEW_CORRELATION:
+    if _quantile(known, 1.0 - MIN_IN_VIEW) >= IN_VIEW_CORRELATION:
         return 1.0 - MIN_IN_VIEW
     return 0.0
+
+
+def _median(ordered: np.ndarray) -> float:
+    """``np.median`` of an ascending array (n,), n > 0, the same number without its overhead."""
+    n = len(ordered)
+    half = n // 2
+    if n % 2:
+        return float(ordered[half])
+    return float((ordered[half - 1] + ordered[half]) / 2.0)
+
+
+def _quantile(ordered: np.ndarray, q: float) -> float:
+    """``np.quantile(ordered, q)`` (linear) of an ascending array (n,), n > 0, the same number.
+
+    The virtual index ``(n - 1) q`` and NumPy's interpolation between its neighbours, which
+    takes the upper neighbour as base from a weight of one half on.
+    """
+    n = len(ordered)
+    virtual = (n - 1) * q
+    below = math.floor(virtual)
+    lo, hi = ordered[min(max(below, 0), n - 1)], ordered[min(max(below + 1, 0), n - 1)]
+    gamma = virtual - below
+    diff = hi - lo
+    return float(hi - diff * (1.0 - gamma) if gamma >= 0.5 else lo + diff * gamma)

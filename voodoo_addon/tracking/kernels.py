@@ -263,6 +263,57 @@ def normal_equations(pick, diff, use, gradients, corners, weights, k, hess, rhs)
                 hess[ca, 1, cb, 1] += wab * hyy
 
 
+@nb.njit(
+    "void(float32[:, ::1], float32[:, ::1], boolean[::1], float64[::1], float64[::1], float64,"
+    " float32[:, ::1])",
+    **_OPTS,
+)
+def mix_look(template, samples, use, contrast, brightness, anchor, out):
+    """The appearance a frame leaves (:meth:`.local.LocalStage.adapt`), into ``out`` (n, c).
+
+    ``out = anchor t + (1 - anchor) (s - b) / c`` on the used pixels, the template ``t``
+    elsewhere: the frame's samples ``s`` with its global lighting (``contrast`` ``c``,
+    ``brightness`` ``b`` (c,)) undone, mixed with the template. ``anchor t`` is rounded to
+    float32 and the rest is float64, as NumPy's expression of it gives.
+    """
+    a32 = np.float32(anchor)
+    rest = 1.0 - anchor
+    n, nc = template.shape
+    for i in range(n):
+        if use[i]:
+            for ch in range(nc):
+                seen = (np.float64(samples[i, ch]) - brightness[ch]) / contrast[ch]
+                out[i, ch] = np.float32(np.float64(a32 * template[i, ch]) + rest * seen)
+        else:
+            for ch in range(nc):
+                out[i, ch] = template[i, ch]
+
+
+@nb.njit("int64(float64[::1], int64[::1], boolean[::1], int64[::1])", **_OPTS)
+def dropped_rows(triangle_weight, triangle, use, out):
+    """Rows (3 per pixel) of the pixels of kept triangles left out of the solve; how many.
+
+    A pixel ``i`` whose triangle has weight but that ``use`` leaves out gives the rows
+    ``3 i, 3 i + 1, 3 i + 2`` of ``out`` (3n,), in pixel order.
+    """
+    k = 0
+    for i in range(use.shape[0]):
+        if triangle_weight[triangle[i]] > 0 and not use[i]:
+            out[k] = 3 * i
+            out[k + 1] = 3 * i + 1
+            out[k + 2] = 3 * i + 2
+            k += 3
+    return k
+
+
+@nb.njit("void(float32[:, ::1], int64[::1], float64[:, ::1])", **_OPTS)
+def gather_columns(matrix, columns, out):
+    """``out = matrix[:, columns]`` (p, k) as float64."""
+    for r in range(matrix.shape[0]):
+        for j in range(columns.shape[0]):
+            out[r, j] = matrix[r, columns[j]]
+
+
 @nb.njit("void(float32[:, :, ::1], float32[:, ::1], float32[:, ::1])", **_OPTS)
 def gradients(image, positions, out):
     """The picture's derivatives at ``positions`` (2, n).

@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import kernels
+
 #: No local stage in a frame where the doll moved more than this (pixels): such a frame is
 #: smeared by motion blur, which the nodes would bend to fit.
 REFINE_MOTION = 12.0
@@ -143,10 +145,9 @@ class LocalStage:
             self.template = None
             return
         anchor = max(anchor, MIN_ANCHOR)
-        seen = np.asarray(ev.samples, np.float64)
-        if self.layout.photometric != "none":
-            c, b = self.layout.channel_gain_offset(a)
-            seen = (seen - b) / c
+        c, b = self.layout.channel_gain_offset(a)  # none: 1 and 0
         t0 = level.template
-        mixed = np.where(ev.use[:, None], anchor * t0 + (1.0 - anchor) * seen, t0)
-        self.template = mixed.astype(np.float32)
+        mixed = np.empty_like(t0)
+        samples = np.ascontiguousarray(ev.samples, np.float32)
+        kernels.mix_look(t0, samples, ev.use, np.array(c, float), np.array(b, float), anchor, mixed)
+        self.template = mixed

@@ -14,6 +14,7 @@ from functools import cached_property
 
 import numpy as np
 
+from . import kernels
 from .evaluation import Evaluation
 from .level import Level
 from .norms import RobustNorm
@@ -168,10 +169,11 @@ def solve(
     if not ev.weighted:
         return solver.update @ ev.dbar.ravel() - solver.prior @ a_act
     gram = _weighted_sum(ev.triangle_weight, solver.triangle_gram)
-    gone = np.nonzero((ev.triangle_weight > 0)[level.triangle] & ~ev.use)[0]
-    if len(gone):
-        rows = (3 * gone[:, None] + np.arange(3)).ravel()
-        jg = solver.jacobian[:, rows].astype(np.float64)
+    rows = np.empty(3 * len(ev.use), np.int64)
+    k = kernels.dropped_rows(ev.triangle_weight, level.triangle, ev.use, rows)
+    if k:
+        jg = np.empty((len(solver.jacobian), k))
+        kernels.gather_columns(solver.jacobian, rows[:k], jg)
         gram = gram - jg @ jg.T
     dbar = ev.dbar if level.patches is not None else ev.dbar * ev.use[:, None]
     rhs = solver.jacobian @ dbar.ravel()  # (the patch projection zeroes unused pixels)
