@@ -490,6 +490,44 @@ def test_a_frames_fits_from_one_region_share_its_pyramid():
     assert other is not first
 
 
+def test_a_frames_fits_from_the_same_start_share_their_coarse_levels(monkeypatch):
+    """A fit made again from the same starts on the same frame (as against the blob's own
+    template) iterates its coarse levels and its grid search once; the result is the one a
+    tracker that never fitted the frame before gives, and the next frame fits anew."""
+    from voodoo_addon.tracking.decomposition import DifferenceDecomposition
+
+    take = scenario("mixed")
+    tracker, fresh = Tracker(take.blob), Tracker(take.blob)
+    for frame in take.frames[:3]:
+        tracker.track(frame)
+        fresh.track(frame)
+    assert len(tracker.fitter.levels) > 1
+    coarse = []
+    evaluate = DifferenceDecomposition.evaluate
+
+    def counting(step, *args, **kwargs):
+        coarse.append(not step.level.finest)
+        return evaluate(step, *args, **kwargs)
+
+    monkeypatch.setattr(DifferenceDecomposition, "evaluate", counting)
+    far = tracker.state.copy()
+    far[0] += 5.0
+    frame = take.frames[3]
+    first = tracker._fit(frame, [far, tracker.state], wide=True)
+    assert any(coarse)
+    coarse.clear()
+    again = tracker._fit(frame, [far, tracker.state], wide=True, adapted=False)
+    assert not any(coarse)  # every coarse evaluation was the first fit's
+    assert again.iterations < first.iterations
+    alone = fresh._fit(frame, [far, fresh.state], wide=True, adapted=False)
+    np.testing.assert_array_equal(again.params, alone.params)
+    assert again.confidence == alone.confidence
+    tracker.fitter.forget()  # as a new frame does
+    coarse.clear()
+    tracker._fit(frame, [far, tracker.state], wide=True)
+    assert any(coarse)
+
+
 def test_a_camera_buffer_refilled_with_the_next_frame_is_not_read_stale():
     """A camera may hand over the same array with new pixels each frame: the pyramid kept
     from the last frame must not be reused for it."""

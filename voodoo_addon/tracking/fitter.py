@@ -129,6 +129,9 @@ class CoarseToFineFitter:
         ]
         self._base = None
         self.pictures = FramePictures(blob.blur_sigma, self.base, len(self.levels))
+        # The coarse levels' fits and grid searches of the frame being fitted (see
+        # :meth:`_level_fit`), by what they start from; dropped with the frame's pictures.
+        self._coarse: dict = {}
         self.frozen: frozenset = frozenset()
         self._active: dict = {}
         self._anchor = None
@@ -140,8 +143,17 @@ class CoarseToFineFitter:
         )
         self.creases = CreaseSearch(self.refiner, blob)
 
+    def forget(self) -> None:
+        """Drop what was read of the last frame: call it before a new frame.
+
+        A camera may hand over the same buffer with new pixels.
+        """
+        self.pictures.forget()
+        self._coarse = {}
+
     def set_cover(self, cover) -> None:
         """What covers the blob in the next frames (a ``Cover``, or None: nothing known)."""
+        self._coarse = {}
         for step in (*self.levels, self.refiner.sub_step, self.creases.step):
             if step is not None:
                 step.cover = cover
@@ -172,6 +184,7 @@ class CoarseToFineFitter:
         started from the modes alone would start far off.
         """
         self._base = offsets
+        self._coarse = {}
         for step in self.levels:
             lv = step.level
             lv.offsets = None if offsets is None else offsets * lv.scale
@@ -189,6 +202,7 @@ class CoarseToFineFitter:
         """Hold these parameter indices; precompute every level's solver for the rest."""
         self.frozen = frozenset(indices)
         self._active = {}
+        self._coarse = {}
         for step in self.levels:
             step.solver(self.active(step.index))
 
@@ -350,7 +364,23 @@ class CoarseToFineFitter:
         return self.creases.search(fit.params, fit.pictures, offsets, template, fit.covered)
 
     def _level_fit(self, step: DifferenceDecomposition, images, origin, a, cap=None, bail=None):
-        return step.fit(
+        """``step``'s fit from ``a`` on the frame's ``images``.
+
+        A coarse level compares with the blob's own template and tests no cover, so its fit
+        depends only on the start, the cap, the bail and the anchor: the fits of one frame
+        that start alike (the fit made again against the template, a descent from a seed
+        the grid search kept) share it instead of iterating again, and it counts no
+        iterations the second time.
+        """
+        finest = step.level.finest
+        key = None
+        if not finest:
+            key = ("fit", step.index, id(images), a.tobytes(), cap, bail, self._anchor.tobytes())
+            kept = self._coarse.get(key)
+            if kept is not None and kept[0] is images:
+                res = kept[1]
+                return LevelFit(res.params.copy(), res.evaluation, 0, res.bailed)
+        res = step.fit(
             images[step.index],
             a,
             origin,
@@ -359,9 +389,12 @@ class CoarseToFineFitter:
             cap,
             bail,
             self._anchor,
-            self._template if step.level.finest else None,
-            self._covered if step.level.finest else None,
+            self._template if finest else None,
+            self._covered if finest else None,
         )
+        if key is not None:
+            self._coarse[key] = (images, res)  # the pictures kept: their id stays theirs
+        return res
 
     def _descend(self, images, origin, start, wide: bool, fine_cap=None) -> LevelFit:
         """Coarse to fine from ``start``; the finest level's fit (``fine_cap``: its cap)."""
@@ -384,8 +417,19 @@ class CoarseToFineFitter:
         range of the pyramid to about :data:`SEARCH_RADIUS` coarse pixels around each seed,
         enough for a reversal of 15 px/frame motion on smooth, photo-like textures.
 
-        Returns (params, evaluations).
+        Returns (params, evaluations); a search made before on the frame's ``images`` from
+        the same seeds gives its pose again and counts no evaluations.
         """
+        key = ("grid", id(images), tuple(seed.tobytes() for seed in seeds))
+        kept = self._coarse.get(key)
+        if kept is not None and kept[0] is images:
+            return kept[1].copy(), 0
+        best, its = self._grid_search(images, origin, seeds)
+        self._coarse[key] = (images, best)
+        return best.copy(), its
+
+    def _grid_search(self, images, origin, seeds):
+        """:meth:`_coarse_search` itself."""
         top = self.levels[-1]
         org, box = self._bind(top, images, origin)
         scale = top.level.scale

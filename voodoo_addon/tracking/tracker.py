@@ -194,7 +194,7 @@ class Tracker:
         TrackResult
         """
         frame = checked_frame(frame, self.frame_size)
-        self.fitter.pictures.forget()  # a camera may refill the same buffer
+        self.fitter.forget()  # a camera may refill the same buffer
         self.fitter.set_cover(cover)
         with single_blas_thread():
             pending = self._follow_ahead(frame)
