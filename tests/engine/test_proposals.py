@@ -104,3 +104,22 @@ def test_a_lost_doll_of_rich_texture_is_matched_as_one_not_lost(scene_blob):
     matcher = FeatureMatcher(blob, ParamLayout(tuple(str(s) for s in blob.labels), "channel"))
     assert len(matcher._template(False)[1]) >= TEMPLATE_FEATURES
     np.testing.assert_array_equal(matcher._template(True)[1], matcher._template(False)[1])
+
+
+def test_the_template_keypoints_are_made_ahead_and_are_those_made_on_demand():
+    """A tracker's matcher makes its template's keypoints, plain and faint, on the helper
+    thread while the first frames are tracked: the first search does not pay for them,
+    and they are the very keypoints a matcher makes when asked."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    scene, contour = foam_scene(*SIZE, 6000)
+    rest = _faint(scene.render(Pose(), noise=0.0005, rng=np.random.default_rng(0)))
+    blob = build_blob(rest, contour)
+    layout = ParamLayout(tuple(str(s) for s in blob.labels), "channel")
+    ahead, asked = FeatureMatcher(blob, layout), FeatureMatcher(blob, layout)
+    with ThreadPoolExecutor(1) as helper:
+        ahead.prepare(helper)
+    assert set(ahead._made) == {False, True}  # made without a search asking
+    for lost in (False, True):
+        np.testing.assert_array_equal(ahead._template(lost)[1], asked._template(lost)[1])
+        np.testing.assert_array_equal(ahead._template(lost)[2], asked._template(lost)[2])

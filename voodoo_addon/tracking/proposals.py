@@ -255,9 +255,27 @@ class FeatureMatcher:
         self.blob = blob
         self.layout = layout
         self._made = {}  # lost (bool) -> (detector, points, descriptors, PointFit)
+        self._making = None  # the keypoints being made ahead (see prepare)
+
+    def prepare(self, executor) -> None:
+        """Make the template's keypoints, plain and faint, on ``executor`` ahead of need.
+
+        Detecting them takes 10-110 ms (the faint ones of a furry doll are sought at
+        several contrasts); made when the first search asks, they fall on the frame where
+        the doll is folding or lost. They are the same keypoints whenever they are made.
+        """
+        if self._making is None and not self._made:
+            self._making = executor.submit(self._make, True)
 
     def _template(self, lost: bool):
-        """The detector and the template's keypoints for a doll lost or not (made once).
+        """The detector and the template's keypoints for a doll lost or not (made once)."""
+        if self._making is not None:
+            making, self._making = self._making, None
+            making.result()
+        return self._make(lost)
+
+    def _make(self, lost: bool):
+        """:meth:`_template` itself.
 
         A lost doll shares the plain template when it has :data:`TEMPLATE_FEATURES`
         keypoints; otherwise fainter ones are sought (:data:`CONTRAST`).
@@ -265,7 +283,7 @@ class FeatureMatcher:
         if lost in self._made:
             return self._made[lost]
         if lost:
-            plain = self._template(False)
+            plain = self._make(False)
             if len(plain[1]) >= TEMPLATE_FEATURES:
                 self._made[lost] = plain
                 return plain

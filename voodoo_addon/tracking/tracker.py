@@ -122,7 +122,10 @@ class Tracker:
         self.frame_size = tuple(int(v) for v in blob.frame_size)
         self._matcher = FeatureMatcher(blob, self.layout) if opt.features else None
         self._motion = MotionProposal(blob, self.layout)
-        self._helper: ThreadPoolExecutor | None = None  # follows points beside the fit
+        # Follows points beside the fit, and makes the template's features ahead of need.
+        self._helper = ThreadPoolExecutor(1, thread_name_prefix="voodoo-points")
+        if self._matcher is not None:
+            self._matcher.prepare(self._helper)
         self._hidden = HiddenPart(blob.vertices, blob.triangles)
         self._local = LocalStage(self.fitter, self.layout, opt)
         self.set_frozen(frozen)
@@ -213,8 +216,6 @@ class Tracker:
         """
         if self.lost or not self._points_likely or self._previous is None:
             return None
-        if self._helper is None:
-            self._helper = ThreadPoolExecutor(1, thread_name_prefix="voodoo-points")
         return self._helper.submit(self._motion.propose, self._previous, frame, self.state.copy())
 
     def _track(self, frame: np.ndarray, pending: Future | None = None) -> TrackResult:
