@@ -70,3 +70,17 @@ def test_the_fold_benchmark_runs_on_a_cameras_frames(capsys):
     assert np.isfinite(webcam["error_px"])
     assert main(["--only", "sheet_foldover", "--trackers", "klt", "--camera", "dim"]) == 0
     assert "| sheet_foldover | klt |" in capsys.readouterr().out
+
+
+def test_a_redraw_moves_a_few_values_by_one_level_and_each_seed_others():
+    """The ``redraw`` camera is the clean render again: no blur, no exposure swing, no JPEG,
+    and about a third of the values one grey level off, other ones for another seed."""
+    frames = [_checker(), _checker()[::-1].copy()]
+    redraw = CAMERAS["redraw"]
+    first = degrade(frames, redraw)
+    second = degrade(frames, CameraFaults(**{**redraw.__dict__, "seed": 1}))
+    for got, other, clean in zip(first, second, frames, strict=True):
+        step = got.astype(int) - clean.astype(int)
+        assert np.abs(step).max() <= 3
+        assert 0.2 < np.count_nonzero(step) / step.size < 0.45
+        assert not np.array_equal(got, other)

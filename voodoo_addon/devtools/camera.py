@@ -43,10 +43,16 @@ class CameraFaults:
 
 
 #: The cameras the fold benchmark can put on its clips: ``webcam`` a fair USB webcam in
-#: room light, ``dim`` a cheap one in a dim room (more noise and blur, harder compression).
+#: room light, ``dim`` a cheap one in a dim room (more noise and blur, harder compression),
+#: and ``redraw``, no camera at all: the clean render with half a grey level of sensor noise,
+#: which moves about a third of its values by one level. The tracker is chaotic on the fold
+#: renders -- a difference in the last bits of its arithmetic (another processor, the
+#: Lorentzian's sigma changed by one part in 10^10) moves a clip's error by up to 2 px and
+#: its lost frames by three -- so a change to it is judged over several seeds of this.
 CAMERAS = {
     "webcam": CameraFaults(),
     "dim": CameraFaults(blur=1.0, drift=0.2, noise=7.0, jpeg=60),
+    "redraw": CameraFaults(blur=0.0, drift=0.0, noise=0.5, jpeg=100),
 }
 
 
