@@ -476,3 +476,40 @@ def test_a_fit_that_leaps_away_must_be_as_sure_as_a_reacquisition(foam):
     assert tracker._found(Fit(far, 0.5, 1, quality=sure), sure)
     lost = Quality(0.1, 0.1, 1.0, 1.0, in_view=opt.lost_below / 2, share=1.0)
     assert not tracker._found(Fit(near, 0.1, 1, quality=lost), lost)
+
+
+def test_a_doll_held_still_may_have_moved_by_as_many_frames_as_it_was_held(foam, monkeypatch):
+    """A fit far from the pose before must be as sure as a re-acquisition, but a pose held
+    still for frames (no fit found the doll, the held pose did) is that many frames behind
+    a doll that moves on: the leap allowed grows by LEAP for each of them. While lost it
+    does not (``samples/heldout_folds3/shirt_fold_print`` through the redraw camera, seed
+    0, lost 8 frames behind a pose held still for five)."""
+    from voodoo_addon.tracking.confidence import Quality
+    from voodoo_addon.tracking.fitter import Fit
+    from voodoo_addon.tracking.tracker import LEAP
+
+    _, rest, blob = foam
+    tracker, fresh = Tracker(blob), Tracker(blob)
+    for t in (tracker, fresh):
+        t.track(rest)
+        t.track(rest)
+    before = tracker.state.copy()
+    fit = tracker.fitter.fit
+
+    def running_off(frame, seeds, *args, **kwargs):
+        away = fit(frame, seeds, *args, **kwargs).params.copy()
+        away[0] += 0.5 * blob.length
+        return Fit(away, 0.05, 3)
+
+    monkeypatch.setattr(tracker.fitter, "fit", running_off)
+    for _ in range(2):
+        res = tracker.track(rest)
+        assert not res.lost
+        np.testing.assert_array_equal(res.params, before)  # the pose held still
+    unsure = Quality(0.2, 0.2, 1.0, 1.0, in_view=0.2, share=1.0)
+    moved = before.copy()
+    moved[0] += 2.5 * LEAP * blob.length  # more than one frame's leap, less than three
+    assert tracker._found(Fit(moved, 0.2, 1, quality=unsure), unsure)
+    assert not fresh._found(Fit(moved, 0.2, 1, quality=unsure), unsure)
+    assert tracker.track(np.full_like(rest, 0.5)).lost  # gone: lost, and held no more
+    assert not tracker._found(Fit(moved, 0.2, 1, quality=unsure), unsure)
