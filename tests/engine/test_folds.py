@@ -405,25 +405,30 @@ def test_the_pose_held_still_is_judged_on_the_frame_as_it_is(foam):
     assert half.quality.share < 0.6 and half.in_view > 0.8
 
 
+def _make_fits_run_off(tracker, monkeypatch):
+    """Every start's fit of ``tracker`` runs off half the doll's size, explaining nothing."""
+    from voodoo_addon.tracking.fitter import Fit
+
+    fit = tracker.fitter.fit
+
+    def running_off(frame, seeds, *args, **kwargs):
+        away = fit(frame, seeds, *args, **kwargs).params.copy()
+        away[0] += 0.5 * tracker.blob.length
+        return Fit(away, 0.05, 3)  # far off, and explaining nothing
+
+    monkeypatch.setattr(tracker.fitter, "fit", running_off)
+
+
 def test_a_doll_that_did_not_move_is_not_lost_when_every_fit_runs_off(foam, monkeypatch):
     """When every start's fit runs off to where the doll is not (as on a tail turning
     back, ``samples/folds/tail_turn``), the pose the doll had is judged as it is; when it
     still explains the frame the doll is found there, not lost."""
-    from voodoo_addon.tracking.fitter import Fit
-
     scene, rest, blob = foam
     tracker = Tracker(blob)
     tracker.track(rest)
     tracker.track(rest)
     before = tracker.state.copy()
-    fit = tracker.fitter.fit
-
-    def running_off(frame, seeds, *args, **kwargs):
-        away = fit(frame, seeds, *args, **kwargs).params.copy()
-        away[0] += 0.5 * blob.length
-        return Fit(away, 0.05, 3)  # far off, and explaining nothing
-
-    monkeypatch.setattr(tracker.fitter, "fit", running_off)
+    _make_fits_run_off(tracker, monkeypatch)
     res = tracker.track(rest)
     assert not res.lost and res.confidence > 0.9
     np.testing.assert_array_equal(res.params, before)
@@ -494,14 +499,7 @@ def test_a_doll_held_still_may_have_moved_by_as_many_frames_as_it_was_held(foam,
         t.track(rest)
         t.track(rest)
     before = tracker.state.copy()
-    fit = tracker.fitter.fit
-
-    def running_off(frame, seeds, *args, **kwargs):
-        away = fit(frame, seeds, *args, **kwargs).params.copy()
-        away[0] += 0.5 * blob.length
-        return Fit(away, 0.05, 3)
-
-    monkeypatch.setattr(tracker.fitter, "fit", running_off)
+    _make_fits_run_off(tracker, monkeypatch)
     for _ in range(2):
         res = tracker.track(rest)
         assert not res.lost
