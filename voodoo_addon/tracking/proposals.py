@@ -260,7 +260,7 @@ class FeatureMatcher:
     def prepare(self, executor) -> None:
         """Make the template's keypoints, plain and faint, on ``executor`` ahead of need.
 
-        Detecting them takes 10-110 ms (the faint ones of a furry doll are sought at
+        Detecting them takes 12-73 ms (the faint ones of a furry doll are sought at
         several contrasts); made when the first search asks, they fall on the frame where
         the doll is folding or lost. They are the same keypoints whenever they are made.
         """
