@@ -260,9 +260,10 @@ class FeatureMatcher:
     def prepare(self, executor) -> None:
         """Make the template's keypoints, plain and faint, on ``executor`` ahead of need.
 
-        Detecting them takes 12-73 ms (the faint ones of a furry doll are sought at
-        several contrasts); made when the first search asks, they fall on the frame where
-        the doll is folding or lost. They are the same keypoints whenever they are made.
+        Detecting them took 53-73 ms on the clips measured (the faint ones of a furry doll
+        are sought at several contrasts); made when the first search asks, they fall on the
+        frame where the doll is folding or lost. They are the same keypoints whenever they
+        are made.
         """
         if self._making is None and not self._made:
             self._making = executor.submit(self._make, True)
