@@ -348,7 +348,9 @@ def build_parser() -> argparse.ArgumentParser:
     )
     e.add_argument("--json", action="store_true", help="print one JSON line")
     e.add_argument("--quick", action="store_true", help="short synthetic sequences only")
-    e.add_argument("--only", nargs="+", help="parts: speed live dolls osc clips calibration hd")
+    e.add_argument(
+        "--only", nargs="+", help="parts: speed live dolls folds osc clips calibration hd"
+    )
     e.add_argument("--write", metavar="FILE", help="put the tables into FILE (BENCHMARKS.md)")
     e.set_defaults(func=cmd_bench)
 

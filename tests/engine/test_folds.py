@@ -55,10 +55,11 @@ def test_a_doll_covered_over_more_than_half_is_followed_on_the_part_in_view(foam
     """60% of the doll's width under a card: not lost, the part in view registered, most
     covered triangles marked out of view; uncovered, the whole doll is back in view.
 
-    Not all of them: the card is flat grey, and where the doll is faint many covered
-    triangles pass the occlusion test (they correlate with nothing, but are not far off in
-    colour). How many is decided by the last bits of the arithmetic: on an AMD EPYC, 55-82%
-    of them with NumPy 1.26 and 71-100% with NumPy 2.3.
+    The card is flat grey, and where the doll is faint many covered triangles pass the
+    occlusion test (they correlate with nothing, but are not far off in colour): the fit
+    left out 55-82% of them with NumPy 1.26 and 71-100% with NumPy 2.3 on an AMD EPYC, as
+    the last bits of the arithmetic decided. The result reports the poorly fitting ones
+    joined to those out of view too (``HiddenPart.seen``): 91-93% with NumPy 1.26.
     """
     scene, _, blob = foam
     tracker = Tracker(blob)
@@ -75,8 +76,8 @@ def test_a_doll_covered_over_more_than_half_is_followed_on_the_part_in_view(foam
             covered.append(1.0 - res.visible[under].mean())
             assert res.visible[in_view].all(), i
             assert res.confidence >= tracker.options.lost_below
-    # Most of the covered part is marked out of view on most covered frames...
-    assert np.median(covered) > 0.5, covered
+    # Most of the covered part is marked out of view on every covered frame...
+    assert min(covered) > 0.8, covered
     # ... the part in view stays registered, and the doll is whole again once uncovered.
     assert max(errors) < 0.5, errors
     assert res.visible.all() and errors[-1] < 0.1
@@ -184,7 +185,8 @@ SHORT = {
 def test_fold_clip_against_klt_and_dis(clip):
     """On the renders of folds: no folded frame, a smaller node error on the seen nodes
     than KLT's and DIS's, no frame lost while a third of the doll is in view, and, where a
-    part goes out of view, that part back under a pixel soon after it is open again.
+    part goes out of view, that part marked out of view and back under a pixel soon after
+    it is open again.
 
     The issue asks for no lost frame and 10 frames; BENCHMARKS.md has the figures on each
     NumPy line (counted from the part's first showing, nearly edge-on, several clips take
@@ -204,6 +206,10 @@ def test_fold_clip_against_klt_and_dis(clip):
         return  # a whole doll turned in depth: foreshortened, but no part goes out of view
     assert ours["opened_at"] is not None
     assert ours["open_recovery_frames"] is not None and ours["open_recovery_frames"] <= 10
+    # The part out of view is marked so, per triangle (a third at the least: 35-100% over
+    # five draws of each render's noise; 7% of plush_nod's before the rim counted), and
+    # little of the part in view (up to 20%, plush_flip).
+    assert ours["hidden_marked"] > 1 / 3 and ours["seen_marked"] < 0.25, brief
 
 
 @pytest.mark.slow
@@ -285,6 +291,42 @@ def test_a_poorly_fitting_part_counts_as_hidden_only_when_it_lies_on_one_side(fo
     scattered = np.zeros(len(centroids), bool)
     scattered[::2] = True
     assert not part.one_side(scattered)
+
+
+def test_a_result_reports_the_poorly_fitting_rim_of_a_part_out_of_view(foam):
+    """What a fold, a turn or a hand hides is a region: the poorly fitting triangles joined
+    to it (or making one of a tenth of the doll) are reported out of view; a poorly fitting
+    triangle on its own, as a crumple scatters them, is still reported in view."""
+    from voodoo_addon.tracking.hidden import OUT_OF_VIEW_REGION, HiddenPart
+
+    _, _, blob = foam
+    part = HiddenPart(blob.vertices, blob.triangles)
+    x = blob.vertices[blob.triangles].mean(axis=1)[:, 0]
+    everything = np.ones(len(x), bool)
+    kept = x < np.quantile(x, 0.6)  # the right 40% left out by the fit
+    rim = kept & (x >= np.quantile(x, 0.5))
+    far = np.flatnonzero(x == x.min())  # the leftmost triangle, far from the rim
+    poor = rim.copy()
+    poor[far] = True
+    got = part.seen(kept, poor)
+    np.testing.assert_array_equal(got, kept & ~rim)  # the rim out, the lone one in
+    # A region of poorly fitting triangles alone, a fifth of the doll: out of view.
+    band = x >= np.quantile(x, 0.8)
+    assert OUT_OF_VIEW_REGION < 0.2
+    np.testing.assert_array_equal(part.seen(everything, band), ~band)
+    # Scattered: triangles that share no edge with one another stay in view.
+    lone = np.zeros(len(x), bool)
+    taken = set()
+    for k, tri in enumerate(blob.triangles):
+        edges = {frozenset(e) for e in ((tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0]))}
+        if not edges & taken:
+            lone[k] = True
+            taken |= edges
+    assert lone.sum() > 0.2 * len(x)
+    np.testing.assert_array_equal(part.seen(everything, lone), everything)
+    # Nothing fits poorly, or nothing was compared: what the fit kept.
+    np.testing.assert_array_equal(part.seen(kept, None), kept)
+    assert part.seen(None, poor) is None
 
 
 def test_the_fit_that_leaves_the_hidden_part_out_wins_on_the_part_in_view():

@@ -198,3 +198,26 @@ def test_the_occlusion_tests_median_and_quantile_are_numpys_to_the_last_bit():
             ordered = np.sort(x)
             assert _median(ordered) == np.median(x)
             assert _quantile(ordered, 1.0 - 1.0 / 3.0) == np.quantile(x, 1.0 - 1.0 / 3.0)
+
+
+def test_region_sizes_are_the_connected_components_of_the_members():
+    from scipy.sparse import csr_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    t = 60
+    neighbours = np.full((t, 3), -1, np.int64)
+    for a, b in RNG.integers(0, t, (70, 2)):
+        free_a, free_b = np.flatnonzero(neighbours[a] < 0), np.flatnonzero(neighbours[b] < 0)
+        if a != b and b not in neighbours[a] and len(free_a) and len(free_b):
+            neighbours[a, free_a[0]], neighbours[b, free_b[0]] = b, a
+    for _ in range(10):
+        member = RNG.uniform(size=t) > 0.4
+        out = np.empty(t, np.int64)
+        kernels.region_sizes(neighbours, member, out)
+        at = np.flatnonzero(member)
+        rows, cols = np.nonzero(neighbours >= 0)
+        graph = csr_matrix((np.ones(len(rows)), (rows, neighbours[rows, cols])), shape=(t, t))
+        _, label = connected_components(graph[at][:, at], directed=False)
+        want = np.zeros(t, np.int64)
+        want[at] = np.bincount(label)[label]
+        np.testing.assert_array_equal(out, want)

@@ -136,14 +136,15 @@ def read_clip(clip: Clip):
     return frames, load_contour_json(clip.outline), fps
 
 
-def track_ours(frames, blob, options=None, params=False):
+def track_ours(frames, blob, options=None, params=False, visible=False):
     """Our tracker over the frames.
 
     Returns vertices (T, m, 2), lost (T,), the seconds of each frame after the first
-    (T - 1,) and the confidence (T,); with ``params``, also the parameters (T, P).
+    (T - 1,) and the confidence (T,); with ``params``, also the parameters (T, P); with
+    ``visible``, last, the triangles reported in view (T, t).
     """
     tracker = Tracker(blob, options=options)
-    verts, lost, conf, times, rows = [], [], [], [], []
+    verts, lost, conf, times, rows, seen = [], [], [], [], [], []
     for i, frame in enumerate(frames):
         t0 = time.perf_counter()
         res = tracker.track(frame)
@@ -153,8 +154,10 @@ def track_ours(frames, blob, options=None, params=False):
         lost.append(res.lost)
         conf.append(res.confidence)
         rows.append(res.params)
+        seen.append(res.visible)
     out = np.array(verts), np.array(lost), np.array(times), np.array(conf)
-    return (*out, np.array(rows)) if params else out
+    out += (np.array(rows),) if params else ()
+    return (*out, np.array(seen)) if visible else out
 
 
 def run_clip(clip: Clip, trackers=("ours", "klt", "dis"), options=None) -> list[dict]:

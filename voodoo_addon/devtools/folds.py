@@ -20,6 +20,10 @@ same decoded frames and judged on what the issue asks of a fold:
   and the modes together (:func:`nearest_modal`), judged like a track: the nearest the
   tracker's modal mesh can come to the truth, so its frames to sub-pixel are the fewest any
   fit by these modes could take;
+- **out of view marked** (ours): the share of the triangles the renderer does not see (most
+  of their nodes unseen) that the result reports out of view, over the frames not lost where
+  at least :data:`MARKED_FROM` of the triangles are unseen; beside it the share of the seen
+  triangles it reports out of view, over every frame not lost;
 - **mode jump** (ours): the largest change of the mode amplitudes from one tracked frame to
   the next (pixels RMS over the doll), against the median change and against the largest
   change of the renderer's own mesh projected onto the modes (:func:`true_modes`): what a
@@ -67,6 +71,9 @@ THIRD = 1.0 / 3.0
 RETURNED = 0.9
 #: Sub-pixel: the mean error of the seen nodes below this many pixels.
 SUBPIXEL = 1.0
+#: The out-of-view marking is judged on frames where at least this share of the triangles
+#: is unseen.
+MARKED_FROM = 0.1
 #: What the benchmark runs on every clip: the three trackers, then the nearest shape the
 #: modes can take (the ``modes`` row, :func:`nearest_modal`).
 TRACKERS = ("ours", "klt", "dis", "modes")
@@ -149,6 +156,26 @@ def judge(frames, blob, truth: LatticeTruth, verts, lost) -> dict:
     }
 
 
+def marked(blob, truth: LatticeTruth, visible: np.ndarray, lost) -> tuple[float, float]:
+    """(share of the unseen triangles reported out of view, share of the seen ones).
+
+    ``visible`` (T, t): the triangles a track reports in view; see the module's list.
+    """
+    hit = unseen = wrong = seen = 0
+    for i in range(min(len(truth), len(visible))):
+        if lost[i]:
+            continue
+        _, nodes_seen = truth(i, blob.vertices)
+        truly = nodes_seen[blob.triangles].sum(axis=1) >= 2
+        out = ~np.asarray(visible[i], bool)
+        wrong += np.count_nonzero(out & truly)
+        seen += np.count_nonzero(truly)
+        if np.count_nonzero(~truly) >= MARKED_FROM * len(truly):
+            hit += np.count_nonzero(out & ~truly)
+            unseen += np.count_nonzero(~truly)
+    return (hit / unseen if unseen else np.nan), (wrong / seen if seen else np.nan)
+
+
 def mode_jumps(amps: np.ndarray, lost: np.ndarray) -> tuple[float, float]:
     """(largest, median) RMS change of the mode amplitudes between tracked frames."""
     keep = ~np.asarray(lost, bool)
@@ -227,9 +254,14 @@ def run_fold_clip(
     for name in trackers:
         extra = {}
         if name == "ours":
-            verts, lost, secs, conf, params = track_ours(frames, blob, options, params=True)
+            verts, lost, secs, conf, params, visible = track_ours(
+                frames, blob, options, params=True, visible=True
+            )
             amps = params[:, layout.modes]
             extra["confidence"] = np.round(conf, 3).tolist()
+            hidden_marked, seen_marked = marked(blob, truth, visible, lost)
+            extra["hidden_marked"] = round(float(hidden_marked), 3)
+            extra["seen_marked"] = round(float(seen_marked), 3)
             jump, typical = mode_jumps(amps, lost)
             extra["mode_jump_px"] = round(jump, 2)
             extra["mode_step_median_px"] = round(typical, 3)
@@ -269,9 +301,10 @@ def format_folds(rows: list[dict]) -> str:
     lines = [
         "| clip | tracker | error px (p90), seen nodes | folded frames | lost while 1/3 seen "
         "| least seen | back in view at | frames to < 1 px | back open at | frames to < 1 px "
+        "| out of view marked: unseen / seen "
         "| largest mode jump px (median step; the renderer's largest) | consistency mean | p10 "
         "| median / p95 ms |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
         back, rec = _recovery(r["returned_at"], r["recovery_frames"])
@@ -279,7 +312,9 @@ def format_folds(rows: list[dict]) -> str:
         name = f"{r['clip']} (held out)" if r["held_out"] else r["clip"]
         tracker = "*modes at best*" if r["tracker"] == "modes" else r["tracker"]
         ms = "—" if r["median_ms"] is None else f"{r['median_ms']:.1f} / {r['p95_ms']:.1f}"
-        jump = "—"
+        jump = mark = "—"
+        if "hidden_marked" in r:
+            mark = f"{_num(r['hidden_marked'], '.0%')} / {_num(r['seen_marked'], '.0%')}"
         if "mode_jump_px" in r:
             jump = (
                 f"{r['mode_jump_px']:.2f} ({r['mode_step_median_px']:.2f}; "
@@ -288,7 +323,7 @@ def format_folds(rows: list[dict]) -> str:
         lines.append(
             f"| {name} | {tracker} | {r['error_px']:.2f} ({r['error_p90_px']:.2f}) | "
             f"{100 * r['folded_fraction']:.0f}% | {r['lost_in_third']} | {r['least_seen']:.2f} | "
-            f"{back} | {rec} | {opened} | {open_rec} | {jump} | "
+            f"{back} | {rec} | {opened} | {open_rec} | {mark} | {jump} | "
             f"{_num(r['consistency_mean'])} | {_num(r['consistency_p10'])} | "
             f"{ms} |"
         )
@@ -301,9 +336,9 @@ def _recovery(at, frames) -> tuple[str, str]:
     return str(at), ("never" if frames is None else str(frames))
 
 
-def _num(value) -> str:
-    """Three decimals, or a dash where the texture is too faint to judge (NaN)."""
-    return "—" if value is None or not np.isfinite(value) else f"{value:.3f}"
+def _num(value, form: str = ".3f") -> str:
+    """Three decimals (or ``form``), or a dash where there is nothing to judge (NaN)."""
+    return "—" if value is None or not np.isfinite(value) else format(value, form)
 
 
 def main(argv=None) -> int:

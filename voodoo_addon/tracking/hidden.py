@@ -13,12 +13,16 @@ what the tracker remembers of it from frame to frame, and the two more fits it a
   (:func:`at_rest`) is taken when it brings that part back into view
   (:func:`returned`): a folded part comes back near its rest shape far more often than in
   the shape it was last seen in.
+
+It also says which triangles a frame's result reports in view (:meth:`HiddenPart.seen`):
+those the fit kept, less the poorly fitting ones in a large region out of view.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from . import kernels
 from .creases import DIRECTIONS
 
 #: After a frame where less than this share of the textured doll was in view (folded
@@ -35,6 +39,10 @@ ONE_SIDE_STRAY = 0.15
 #: The *still hidden* fit is taken when it explains the part in view better and the whole
 #: doll at most this much less well (see :func:`still_hidden`).
 HELD_SLACK = 0.02
+#: A result reports a kept triangle that fits poorly out of view when it lies in a region of
+#: poorly fitting or left-out triangles, joined by their edges, of at least this share of the
+#: doll's triangles (see :meth:`HiddenPart.seen`).
+OUT_OF_VIEW_REGION = 0.1
 
 
 class HiddenPart:
@@ -49,6 +57,7 @@ class HiddenPart:
 
     def __init__(self, vertices: np.ndarray, triangles: np.ndarray):
         self.centroids = vertices[triangles].mean(axis=1)
+        self._neighbours = _edge_neighbours(triangles)
         #: (t,) bool: the triangles out of view in the last frame, when they were a large
         #: part of the doll; None otherwise.
         self.triangles = None
@@ -75,6 +84,31 @@ class HiddenPart:
             return None
         return quality.poor if self.one_side(quality.poor) else None
 
+    def seen(self, kept, poor) -> np.ndarray:
+        """The triangles a frame's result reports in view (t,) bool.
+
+        ``kept`` (t,) bool: the triangles the fit kept (not off the picture, covered or
+        turned away); ``poor`` (t,) bool or None: the textured ones among them that do not
+        correlate with the template (``Quality.poor``). A kept triangle that fits poorly is
+        reported out of view when it joins, edge to edge, a region of poorly fitting or
+        left-out triangles of at least :data:`OUT_OF_VIEW_REGION` of the doll: what a fold,
+        a turn or a hand hides is a region, and the fit keeps the rim of it -- nearly
+        edge-on, or covered by something the occlusion test took for the doll (a furry patch
+        turned away, ``samples/heldout_folds2/plush_nod``: 7% of the part the renderer did not
+        see was reported out of view, 58% with the rim). A crumple the fit cannot follow
+        scatters poorly fitting triangles instead; one of them alone is still reported in
+        view. Only the report: the tracker's own decisions use what the fit kept.
+        """
+        if kept is None:
+            return None
+        kept = np.asarray(kept, bool)
+        if poor is None or not (poor & kept).any():
+            return kept
+        size = np.empty(len(kept), np.int64)
+        kernels.region_sizes(self._neighbours, ~kept | poor, size)
+        region = size >= OUT_OF_VIEW_REGION * len(kept)
+        return kept & ~(poor & region)
+
     def one_side(self, poor: np.ndarray) -> bool:
         """The triangles ``poor`` (t,) bool lie beyond a line across the doll.
 
@@ -87,6 +121,24 @@ class HiddenPart:
             if np.count_nonzero(poor & beyond) >= ONE_SIDE * np.count_nonzero(beyond):
                 return True
         return False
+
+
+def _edge_neighbours(triangles: np.ndarray) -> np.ndarray:
+    """(t, 3) int64: the triangle across each edge of each triangle, -1 where none."""
+    t = len(triangles)
+    edges = np.sort(
+        np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1
+    )
+    owner = np.tile(np.arange(t), 3)
+    slot = np.repeat(np.arange(3), t)
+    order = np.lexsort((edges[:, 1], edges[:, 0]))
+    e = edges[order]
+    pair = np.flatnonzero((e[1:] == e[:-1]).all(axis=1))
+    a, b = order[pair], order[pair + 1]
+    out = np.full((t, 3), -1, np.int64)
+    out[owner[a], slot[a]] = owner[b]
+    out[owner[b], slot[b]] = owner[a]
+    return out
 
 
 def still_hidden(fit, held) -> bool:

@@ -13,7 +13,8 @@ guard's step (``_area_terms``, ``_crossing``) are compiled into it then. Shapes 
 follow the NumPy code they replace: :meth:`.level.Level.positions`, :class:`.warp.CpuWarp`,
 :meth:`.photometry.Patches.project`, :class:`.evaluation._Comparison`,
 :meth:`.refine.LocalRefiner.normal_equations` and the fold guard's step
-(:class:`.folding.FoldGuard`).
+(:class:`.folding.FoldGuard`); one more is no pixel loop, the regions of triangles a result
+reports out of view (:meth:`.hidden.HiddenPart.seen`).
 """
 
 from __future__ import annotations
@@ -304,6 +305,39 @@ def dropped_rows(triangle_weight, triangle, use, out):
             out[k + 2] = 3 * i + 2
             k += 3
     return k
+
+
+@nb.njit("void(int64[:, ::1], boolean[::1], int64[::1])", **_OPTS)
+def region_sizes(neighbours, member, out):
+    """For each triangle in ``member`` (t,), the size of its region; 0 for the others.
+
+    A region: the members joined to one another through shared edges (``neighbours`` (t, 3):
+    the triangles across each edge, -1 where none).
+    """
+    t = member.shape[0]
+    label = np.full(t, -1, np.int64)
+    stack = np.empty(t, np.int64)
+    sizes = np.zeros(t, np.int64)
+    regions = 0
+    for start in range(t):
+        if not member[start] or label[start] >= 0:
+            continue
+        label[start] = regions
+        stack[0] = start
+        top = 1
+        while top:
+            top -= 1
+            k = stack[top]
+            sizes[regions] += 1
+            for j in range(neighbours.shape[1]):
+                other = neighbours[k, j]
+                if other >= 0 and member[other] and label[other] < 0:
+                    label[other] = regions
+                    stack[top] = other
+                    top += 1
+        regions += 1
+    for k in range(t):
+        out[k] = sizes[label[k]] if label[k] >= 0 else 0
 
 
 @nb.njit("void(float32[:, ::1], int64[::1], float64[:, ::1])", **_OPTS)

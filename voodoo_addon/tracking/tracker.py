@@ -74,7 +74,8 @@ class TrackResult:
         True on the first good frame after a loss.
     visible : (t,) bool
         Triangles seen in this frame; the others are off the picture, covered, or turned
-        away (their shape is the last one seen). All false when lost.
+        away (their shape is the last one seen), or fit poorly next to such a part (see
+        :meth:`.hidden.HiddenPart.seen`). All false when lost.
     """
 
     params: np.ndarray
@@ -302,6 +303,7 @@ class Tracker:
             self.lost = False
             params = a
             self._hidden.remember(quality.share, visible)
+            visible = self._hidden.seen(visible, quality.poor)
             self._stale = self._stale + 1 if fit is held else 0
         else:
             self._local.lose(kept)
