@@ -9,6 +9,7 @@ import gpu
 import numpy as np
 from gpu_extras.batch import batch_for_shader
 
+from ..voodoo_addon.blob.mesh import mesh_edges
 from .pixels import pixels_to_region
 from .storage import is_blob, stored_blob
 
@@ -24,11 +25,6 @@ LOST_COLOUR = (1.0, 0.2, 0.2, 0.9)
 #: "lost".
 live_state: dict = {}
 _handle = None
-
-
-def _edges(triangles: np.ndarray) -> np.ndarray:
-    e = np.vstack([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
-    return np.unique(np.sort(e, axis=1), axis=0)
 
 
 def _draw_lines(coords, colour, shader):
@@ -50,12 +46,12 @@ def live_meshes(state: dict) -> list:
     for nodes, triangles, lost, visible in meshes:
         tris = np.asarray(triangles)
         if lost or visible is None or np.all(visible):
-            out.append((nodes, _edges(tris), LOST_COLOUR if lost else TRACK_COLOUR))
+            out.append((nodes, mesh_edges(tris), LOST_COLOUR if lost else TRACK_COLOUR))
             continue
         seen = np.asarray(visible, bool)
-        out.append((nodes, _edges(tris[~seen]), HIDDEN_COLOUR))
+        out.append((nodes, mesh_edges(tris[~seen]), HIDDEN_COLOUR))
         if seen.any():
-            out.append((nodes, _edges(tris[seen]), TRACK_COLOUR))
+            out.append((nodes, mesh_edges(tris[seen]), TRACK_COLOUR))
     return out
 
 
@@ -84,7 +80,7 @@ def draw_overlay():
     elif is_blob(settings.blob):
         try:
             blob = stored_blob(settings.blob)
-            lines = [(blob.vertices, _edges(blob.triangles), MESH_COLOUR)]
+            lines = [(blob.vertices, mesh_edges(blob.triangles), MESH_COLOUR)]
         except Exception:  # noqa: BLE001 - drawing must never raise
             lines = []
     for nodes, edges, colour in lines:

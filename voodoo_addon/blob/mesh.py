@@ -50,6 +50,21 @@ class TriMesh:
         return float(triangle_angles(self.vertices, self.triangles).min())
 
 
+def triangle_edges(triangles: np.ndarray) -> np.ndarray:
+    """Every triangle's three edges (3 t, 2), smaller node first.
+
+    The first edge of each triangle, then the second, then the third: row ``k t + i`` is
+    edge ``k`` of triangle ``i``.
+    """
+    e = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
+    return np.sort(e, axis=1)
+
+
+def mesh_edges(triangles: np.ndarray) -> np.ndarray:
+    """The mesh's edges (e, 2), each once, smaller node first, in sorted order."""
+    return np.unique(triangle_edges(triangles), axis=0)
+
+
 def triangle_areas(vertices: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     """Signed areas (n_tris,), positive for counter-clockwise in a y-up frame."""
     a, b, c = (vertices[triangles[:, k]] for k in range(3))

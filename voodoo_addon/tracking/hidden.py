@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..blob.mesh import triangle_edges
 from . import kernels
 from .creases import DIRECTIONS
 
@@ -126,9 +127,7 @@ class HiddenPart:
 def _edge_neighbours(triangles: np.ndarray) -> np.ndarray:
     """(t, 3) int64: the triangle across each edge of each triangle, -1 where none."""
     t = len(triangles)
-    edges = np.sort(
-        np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1
-    )
+    edges = triangle_edges(triangles)
     owner = np.tile(np.arange(t), 3)
     slot = np.repeat(np.arange(3), t)
     order = np.lexsort((edges[:, 1], edges[:, 0]))

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..blob.mesh import mesh_edges
 from . import kernels
 from .evaluation import Evaluation, sample
 from .folding import FoldGuard
@@ -58,8 +59,7 @@ def hold(confidence: float) -> float:
 
 def graph_laplacian(n_nodes: int, triangles: np.ndarray) -> np.ndarray:
     """``D - A`` (m, m) of the mesh's edge graph."""
-    e = np.vstack([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
-    e = np.unique(np.sort(e, axis=1), axis=0)
+    e = mesh_edges(triangles)
     lap = np.zeros((n_nodes, n_nodes))
     lap[e[:, 0], e[:, 1]] = lap[e[:, 1], e[:, 0]] = -1.0
     lap[np.diag_indices(n_nodes)] = -lap.sum(axis=1)
