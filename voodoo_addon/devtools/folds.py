@@ -207,10 +207,23 @@ def true_modes(blob, truth: LatticeTruth, layout) -> np.ndarray:
 def nearest_modal(blob, truth: LatticeTruth, layout) -> np.ndarray:
     """Per frame, the mesh (T, m, 2) of the modal shape nearest the renderer's seen nodes.
 
+    The shapes of :func:`nearest_modal_params`.
+    """
+    return np.array(
+        [
+            node_positions(a, layout, blob.vertices, blob.modes, blob.centre)
+            for a in nearest_modal_params(blob, truth, layout)
+        ]
+    )
+
+
+def nearest_modal_params(blob, truth: LatticeTruth, layout) -> np.ndarray:
+    """Per frame, the parameters (T, P) of the modal shape nearest the renderer's seen nodes.
+
     The similarity and the modes are fitted together by least squares on the seen nodes
     (a similarity taken out first and held would leave what it got wrong to the modes,
     which cannot turn or scale the doll). Frames where fewer than three nodes are seen
-    keep the previous frame's shape.
+    keep the previous frame's shape. The lighting entries stay at none.
     """
     rest = blob.vertices.astype(np.float32)
     stop = layout.modes.stop
@@ -233,7 +246,7 @@ def nearest_modal(blob, truth: LatticeTruth, layout) -> np.ndarray:
 
                 a = start.copy()
                 a[:stop] = least_squares(misfit, start[:stop], method="lm").x
-        out.append(node_positions(a, layout, blob.vertices, blob.modes, blob.centre))
+        out.append(a.copy())
     return np.array(out)
 
 

@@ -175,6 +175,14 @@ class Tracker:
         self.fitter.set_base(None)
         self._hidden.forget()
 
+    @property
+    def appearance(self) -> np.ndarray | None:
+        """The look (n, 3) the next frame's finest level is compared with (read only).
+
+        None for the blob's own template (see ``LocalStage.adapt``).
+        """
+        return self._local.template
+
     def nodes(self, a: np.ndarray, offsets: np.ndarray | None = None) -> np.ndarray:
         """Mesh nodes (m, 2) in frame pixels for parameters ``a`` (and local offsets)."""
         return self.fitter.nodes(a, offsets)

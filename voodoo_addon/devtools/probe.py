@@ -1,0 +1,147 @@
+"""Whose fault a fold clip's error is: the objective's, or the search's.
+
+On a fold render the renderer knows where the doll is. For each frame asked about, the
+tracker's pose and the pose nearest the renderer's truth that the modes can take
+(:func:`.folds.nearest_modal_params`) are both judged on the frame the way the tracker
+judges its own fits (:meth:`~voodoo_addon.tracking.fitter.CoarseToFineFitter.hold`: the
+quality and the robust residual, against the look the tracker compared that frame with,
+:attr:`~voodoo_addon.tracking.Tracker.appearance`), and one more fit is started at the
+truth's pose. How to read a row:
+
+- the truth has the higher confidence *and* the lower residual, and the fit started there
+  stays there: the objective is right, and the tracker's search did not reach it (a start,
+  or a pose it could not leave);
+- the tracker's pose has the lower residual: the objective itself prefers the wrong place,
+  and no search would help.
+
+Both poses are modal (no local offsets); the truth's takes the tracker's lighting. Run as
+``python -m voodoo_addon.devtools.probe CLIP [--camera C --seed N] [--frames A B]``; it
+tracks every frame up to the last one asked about.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..blob.build import build_blob
+from ..media.images import to_float_rgb
+from ..tracking import Tracker
+from .camera import CameraFaults, degrade
+from .clips import Clip, LatticeTruth, read_clip
+from .folds import nearest_modal_params
+
+
+def probe(clip: Clip, frames=None, camera: CameraFaults | None = None) -> list[dict]:
+    """One row per frame in ``frames`` (default: all) of ``clip`` (a fold render).
+
+    Row entries: ``frame``; ``seen`` (share of the truth's nodes in view); ``error`` (the
+    track's seen nodes, pixels) and ``modal_error`` (its modal mesh alone); ``truth_error``
+    (the nearest modal pose's); ``confidence`` / ``residual`` of the tracker's modal pose
+    and ``truth_confidence`` / ``truth_residual`` of the truth's, judged alike;
+    ``from_truth_error`` / ``from_truth_confidence`` of a fit started at the truth's pose.
+    Errors are means over the seen nodes; a row of a lost frame has no judgement (NaN).
+    """
+    pictures, outline, _ = read_clip(clip)
+    if camera is not None:
+        pictures = degrade(pictures, camera)
+    blob = build_blob(to_float_rgb(pictures[0]), outline)
+    truth = LatticeTruth(clip.truth)
+    tracker = Tracker(blob)
+    poses = nearest_modal_params(blob, truth, tracker.layout)
+    asked = set(range(len(pictures)) if frames is None else frames)
+    zero = np.zeros_like(blob.vertices)
+    fitter = tracker.fitter
+    rows = []
+    for i, frame in enumerate(pictures):
+        if i > max(asked, default=-1):
+            break
+        look = tracker.appearance
+        res = tracker.track(frame)
+        if i not in asked:
+            continue
+        nodes, seen = truth(i, blob.vertices)
+
+        def off(mesh, nodes=nodes, seen=seen):
+            return float(np.linalg.norm(mesh[seen] - nodes[seen], axis=1).mean())
+
+        at = poses[i].copy()
+        stop = tracker.layout.modes.stop
+        at[stop:] = res.params[stop:]  # the tracker's lighting
+        row = {
+            "frame": i,
+            "seen": float(seen.mean()),
+            "error": off(res.nodes),
+            "modal_error": off(fitter.nodes(res.params, zero)),
+            "truth_error": off(fitter.nodes(at, zero)),
+        }
+        judged = dict.fromkeys(
+            (
+                "confidence",
+                "residual",
+                "truth_confidence",
+                "truth_residual",
+                "from_truth_error",
+                "from_truth_confidence",
+            ),
+            np.nan,
+        )
+        if not res.lost:
+            fitter.forget()
+            mine, theirs = fitter.hold(frame, res.params, look), fitter.hold(frame, at, look)
+            again = fitter.fit(frame, [at], False, None, at, look)
+            judged.update(
+                confidence=mine.confidence,
+                residual=mine.residual,
+                truth_confidence=theirs.confidence,
+                truth_residual=theirs.residual,
+                from_truth_error=off(fitter.nodes(again.params, zero)),
+                from_truth_confidence=again.confidence,
+            )
+            fitter.forget()
+        rows.append(row | {k: float(v) for k, v in judged.items()})
+    return rows
+
+
+def format_probe(rows) -> str:
+    """The rows as a Markdown table."""
+    head = (
+        "| frame | seen | error px | modal error px | truth's error px | confidence: track /"
+        " truth | residual: track / truth | fit from the truth: error px / confidence |"
+    )
+    lines = [head, "|" + "---|" * 8]
+    for r in rows:
+        lines.append(
+            f"| {r['frame']} | {r['seen']:.2f} | {r['error']:.2f} | {r['modal_error']:.2f} | "
+            f"{r['truth_error']:.2f} | {r['confidence']:.3f} / {r['truth_confidence']:.3f} | "
+            f"{r['residual']:.4f} / {r['truth_residual']:.4f} | "
+            f"{r['from_truth_error']:.2f} / {r['from_truth_confidence']:.3f} |"
+        )
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    import argparse
+    import dataclasses
+
+    from .camera import CAMERAS
+    from .folds import fold_suite
+
+    clips = {c.name: c for c in fold_suite()}
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("clip", choices=sorted(clips))
+    p.add_argument("--frames", nargs=2, type=int, metavar=("FIRST", "LAST"))
+    p.add_argument("--camera", choices=sorted(CAMERAS))
+    p.add_argument("--seed", type=int, help="with --camera, another draw of its noise")
+    args = p.parse_args(argv)
+    if args.seed is not None and not args.camera:
+        p.error("--seed needs --camera")
+    camera = CAMERAS[args.camera] if args.camera else None
+    if args.seed is not None:
+        camera = dataclasses.replace(camera, seed=args.seed)
+    frames = None if args.frames is None else range(args.frames[0], args.frames[1] + 1)
+    print(format_probe(probe(clips[args.clip], frames, camera)))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
