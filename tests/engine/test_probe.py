@@ -6,7 +6,7 @@ import numpy as np
 from voodoo_addon.blob.build import build_blob
 from voodoo_addon.devtools.clips import LatticeTruth, read_clip, track_ours
 from voodoo_addon.devtools.folds import fold_clips
-from voodoo_addon.devtools.probe import format_probe, probe
+from voodoo_addon.devtools.probe import format_probe, format_summary, probe, summarise
 from voodoo_addon.media.images import to_float_rgb
 
 FRAMES = range(6, 10)
@@ -35,3 +35,29 @@ def test_the_probe_judges_the_truth_beside_an_undisturbed_track():
         assert 0.0 < r["truth_residual"] < np.inf
     table = format_probe(rows)
     assert table.count("\n") == len(rows) + 1
+
+
+def test_the_summary_counts_frames_off_by_whose_residual_is_lower():
+    """Lost frames and frames on target are not counted; a frame off is the objective's
+    when the track's residual is no higher than the truth's, else the search's."""
+
+    def row(modal, mine, theirs, again=0.5, conf=(0.5, 0.6)):
+        return {
+            "modal_error": modal,
+            "truth_error": 0.3,
+            "residual": mine,
+            "truth_residual": theirs,
+            "from_truth_error": again,
+            "confidence": conf[0],
+            "truth_confidence": conf[1],
+        }
+
+    rows = [
+        row(0.5, 0.01, 0.02),  # on target
+        row(5.0, np.nan, 0.02),  # lost
+        row(5.0, 0.01, 0.02, conf=(0.6, 0.5)),  # the objective prefers the track
+        row(5.0, 0.03, 0.02),  # the truth's residual lower, and a fit from it stays
+        row(5.0, 0.03, 0.02, again=4.0),  # ... but the fit from it runs off
+    ]
+    assert summarise(rows) == {"off": 3, "objective": 1, "search": 2, "stays": 1, "confidence": 2}
+    assert format_summary({"a clip": rows}).splitlines()[-1] == "| a clip | 3 | 1 | 2 | 1 | 2 |"
