@@ -10,7 +10,7 @@ the same every run.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import cv2
 import numpy as np
@@ -76,3 +76,26 @@ def degrade(frames, faults: CameraFaults) -> list[np.ndarray]:
             x = np.ascontiguousarray(cv2.imdecode(data, cv2.IMREAD_COLOR)[..., ::-1])
         out.append(x)
     return out
+
+
+def add_camera_arguments(parser) -> None:
+    """``--camera`` and ``--seed`` on a command line that tracks the fold renders."""
+    parser.add_argument(
+        "--camera", choices=sorted(CAMERAS), help="put a camera's faults on the frames first"
+    )
+    parser.add_argument(
+        "--seed",
+        type=int,
+        help="with --camera, another draw of its sensor noise: a change is real only if it "
+        "holds over several",
+    )
+
+
+def chosen_camera(parser, args) -> CameraFaults | None:
+    """The camera the arguments of :func:`add_camera_arguments` name (None: the clean render)."""
+    if args.seed is not None and not args.camera:
+        parser.error("--seed needs --camera")
+    camera = CAMERAS[args.camera] if args.camera else None
+    if args.seed is not None:
+        camera = replace(camera, seed=args.seed)
+    return camera

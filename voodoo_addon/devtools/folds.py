@@ -48,7 +48,7 @@ from ..tracking.params import ParamLayout, node_positions, similarity_from_matri
 from ..tracking.proposals import PointFit
 from ..tracking.quality import score_track
 from .baselines import track_dis, track_klt
-from .camera import CAMERAS, CameraFaults, degrade
+from .camera import CameraFaults, add_camera_arguments, chosen_camera, degrade
 from .clips import SAMPLES, Clip, LatticeTruth, read_clip, track_ours, truth_errors
 
 FOLDS = SAMPLES / "folds"
@@ -356,7 +356,6 @@ def _num(value, form: str = ".3f") -> str:
 
 def main(argv=None) -> int:
     import argparse
-    import dataclasses
     import json
 
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -364,21 +363,9 @@ def main(argv=None) -> int:
     p.add_argument("--only", nargs="*", help="clip names")
     p.add_argument("--trackers", nargs="*", default=list(TRACKERS), choices=TRACKERS)
     p.add_argument("--json", help="write all rows (with per-frame series) here")
-    p.add_argument(
-        "--camera", choices=sorted(CAMERAS), help="put a camera's faults on the frames first"
-    )
-    p.add_argument(
-        "--seed",
-        type=int,
-        help="with --camera, another draw of its sensor noise: a change is real only if it "
-        "holds over several",
-    )
+    add_camera_arguments(p)
     args = p.parse_args(argv)
-    if args.seed is not None and not args.camera:
-        p.error("--seed needs --camera")
-    camera = CAMERAS[args.camera] if args.camera else None
-    if args.seed is not None:
-        camera = dataclasses.replace(camera, seed=args.seed)
+    camera = chosen_camera(p, args)
     rows = []
     for clip in fold_clips(args.root) if args.root else fold_suite():
         if args.only and clip.name not in args.only:

@@ -27,7 +27,7 @@ import numpy as np
 from ..blob.build import build_blob
 from ..media.images import to_float_rgb
 from ..tracking import Tracker
-from .camera import CameraFaults, degrade
+from .camera import CameraFaults, add_camera_arguments, chosen_camera, degrade
 from .clips import Clip, LatticeTruth, read_clip
 from .folds import nearest_modal_params
 
@@ -98,7 +98,6 @@ def probe(clip: Clip, frames=None, camera: CameraFaults | None = None) -> list[d
                 from_truth_error=off(fitter.nodes(again.params, zero)),
                 from_truth_confidence=again.confidence,
             )
-            fitter.forget()
         rows.append(row | {k: float(v) for k, v in judged.items()})
     return rows
 
@@ -164,23 +163,16 @@ def format_probe(rows) -> str:
 
 def main(argv=None) -> int:
     import argparse
-    import dataclasses
 
-    from .camera import CAMERAS
     from .folds import fold_suite
 
     clips = {c.name: c for c in fold_suite()}
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("clip", nargs="?", choices=sorted(clips), help="default: all, summed up")
     p.add_argument("--frames", nargs=2, type=int, metavar=("FIRST", "LAST"))
-    p.add_argument("--camera", choices=sorted(CAMERAS))
-    p.add_argument("--seed", type=int, help="with --camera, another draw of its noise")
+    add_camera_arguments(p)
     args = p.parse_args(argv)
-    if args.seed is not None and not args.camera:
-        p.error("--seed needs --camera")
-    camera = CAMERAS[args.camera] if args.camera else None
-    if args.seed is not None:
-        camera = dataclasses.replace(camera, seed=args.seed)
+    camera = chosen_camera(p, args)
     frames = None if args.frames is None else range(args.frames[0], args.frames[1] + 1)
     if args.clip is None:
         print(format_summary({name: probe(c, frames, camera) for name, c in clips.items()}))
