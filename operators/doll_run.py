@@ -185,9 +185,9 @@ class DollRun:
 
     # ------------------------------------------------------------------ end
 
-    def keep(self, take_name: str, rows, rest_frame, fps: float) -> None:
-        """Store this doll's take with its blob; ``rows`` (index, time, scene frame, results)."""
-        take = Take.from_results(
+    def take_of(self, rows, fps: float) -> Take:
+        """The take of ``rows`` (index, time, scene frame, results) for this doll."""
+        return Take.from_results(
             [results[self.name] for *_, results in rows],
             self.blob.triangles,
             self.tracker.parameter_names,
@@ -195,6 +195,14 @@ class DollRun:
             [t for _, t, *_ in rows],
             fps,
         )
+
+    def keep(self, take_name: str, rows, rest_frame, fps: float, take: Take | None = None) -> None:
+        """Store this doll's take with its blob; ``rows`` (index, time, scene frame, results).
+
+        ``take``: what to store for these rows instead of their results as tracked (the take
+        tracked both ways).
+        """
+        take = self.take_of(rows, fps) if take is None else take
         layout_for(self.blob, take)  # sanity: the layout must round-trip
         frames = [f for *_, f, _ in rows]
         if self.previous is not None:

@@ -16,6 +16,7 @@ from ..voodoo_addon.media.images import to_uint8_bgr
 from ..voodoo_addon.media.prefetch import PENDING, Prefetcher
 from ..voodoo_addon.media.sources import open_source
 from ..voodoo_addon.stream import OscSender
+from ..voodoo_addon.takes.both_ways import track_both_ways
 from ..voodoo_addon.tracking import Tracker
 from ..voodoo_addon.tracking.troupe import Troupe
 from . import drawing
@@ -53,6 +54,10 @@ class Recorder:
     resume : str, optional
         Name of a stored take of a clip to continue: tracking starts on the frame after its
         last one, from its last pose, and the take grows (e.g. after reopening the file).
+    both_ways : bool
+        When the take is kept, track the clip's frames again backwards from its end and
+        keep, frame by frame, the surer pass (:mod:`voodoo_addon.takes.both_ways`); a
+        camera's take is kept as tracked, with a note.
 
     Raises
     ------
@@ -62,12 +67,18 @@ class Recorder:
     """
 
     def __init__(
-        self, context, max_frames: int | None = None, live: bool = True, resume: str | None = None
+        self,
+        context,
+        max_frames: int | None = None,
+        live: bool = True,
+        resume: str | None = None,
+        both_ways: bool = False,
     ):
         scene = context.scene
         s = scene.voodoo
         self.scene = scene
         self.live = live
+        self.both_ways = both_ways
         listed = doll_settings(s)
         self.dolls = [DollRun(name, d, len(listed) > 1) for name, d in listed]
         check_dolls(self.dolls)
@@ -320,10 +331,37 @@ class Recorder:
             for doll in self.dolls:
                 doll.journal.discard()
             return None
+        takes = self._tracked_both_ways() if self.both_ways else {}
         for doll in self.dolls:
-            doll.keep(self.take_name, self.rows, self.rest_frame, self.source.fps)
+            fps = self.source.fps
+            doll.keep(self.take_name, self.rows, self.rest_frame, fps, takes.get(doll.name))
         self.scene.voodoo.last_take = self.take_name
         return self.take_name
+
+    def _tracked_both_ways(self) -> dict:
+        """Each doll's take merged with a backward pass over the clip's frames, by name.
+
+        Empty, with a note, when there is no clip to read again or it cannot be read: the
+        take is then kept as tracked.
+        """
+        if self.clip is None:
+            self.notes.append("Both Ways needs a movie clip: the take was kept as tracked.")
+            return {}
+        s = self.scene.voodoo
+        forward = {d.name: d.take_of(self.rows, self.source.fps) for d in self.dolls}
+        backend, _ = make_backend(s.warp)
+        try:
+            trackers = {
+                d.name: Tracker(d.blob, backend=backend, frozen=_frozen(s)) for d in self.dolls
+            }
+            troupe = Troupe({d.name: d.blob for d in self.dolls}, trackers=trackers)
+            with open_clip(self.clip) as source:
+                return track_both_ways(troupe, source, forward)
+        except VoodooError as exc:
+            self.notes.append(f"{exc} The take was kept as tracked forward.")
+            return {}
+        finally:
+            backend.close()
 
     def finish(self) -> dict:
         """Store the take with each doll's blob and apply it to each doll's target (if any).

@@ -101,6 +101,7 @@ def _troupe(args, src, name: str | None = None):
 def cmd_track(args) -> int:
     from .media.prefetch import Prefetcher
     from .media.sources import open_source
+    from .takes.both_ways import track_both_ways
     from .takes.dolls import save_takes, track_dolls
     from .takes.take import ProgressBar, missing_frames
 
@@ -111,9 +112,17 @@ def cmd_track(args) -> int:
         long_clip = src.count is None or src.count > 30
         bar = ProgressBar(src.count) if long_clip and not args.quiet else None
         # Frames are decoded on a second thread (a second core) while this one tracks.
+        if args.both_ways and src.live:
+            raise VoodooError(
+                "--both-ways needs a file: a camera's frames cannot be read again backwards."
+            )
         with Prefetcher(src, limit=args.frames) as ahead:
             takes = track_dolls(troupe, ahead, progress=bar, limit=args.frames)
         short = missing_frames(src, next(iter(takes.values())), args.frames, name=str(args.video))
+        if args.both_ways:
+            n = len(next(iter(takes.values())))
+            back = ProgressBar(n, "backwards") if long_clip and not args.quiet else None
+            takes = track_both_ways(troupe, src, takes, back)
     save_takes(args.out, takes)
     if short:
         print(f"warning: {short}", file=sys.stderr)
@@ -302,6 +311,13 @@ def build_parser() -> argparse.ArgumentParser:
     t.add_argument("--freeze", nargs="*", help="parameters held fixed, e.g. rotate scale")
     t.add_argument("--frames", type=int, help="stop after this many frames (needed for cameras)")
     t.add_argument("--quiet", action="store_true", help="no progress bar")
+    t.add_argument(
+        "--both-ways",
+        action="store_true",
+        help="track the take again backwards from its end and keep, frame by frame, the surer "
+        "pass (files only; twice the time): parts that fold or turn away and come back are "
+        "found sooner",
+    )
     _add_blob_args(t)
     t.set_defaults(func=cmd_track)
 

@@ -20,6 +20,14 @@ class VOODOO_OT_track_clip(TakeLoop, bpy.types.Operator):
     resume: bpy.props.BoolProperty(
         name="Resume", description="Continue the last take from the frame after it ended"
     )
+    both_ways: bpy.props.BoolProperty(
+        name="Both Ways",
+        description=(
+            "Then track the clip again backwards from the end and keep, frame by frame, the "
+            "surer pass: parts that fold or turn away and come back are found sooner (twice "
+            "the time)"
+        ),
+    )
 
     @classmethod
     def poll(cls, context):
@@ -29,7 +37,11 @@ class VOODOO_OT_track_clip(TakeLoop, bpy.types.Operator):
         last = settings(context).last_take
         if self.resume and not last:
             raise VoodooError("There is no take to resume yet.")
-        return {"max_frames": self.max_frames or None, "resume": last if self.resume else None}
+        return {
+            "max_frames": self.max_frames or None,
+            "resume": last if self.resume else None,
+            "both_ways": self.both_ways,
+        }
 
     @reports_errors
     def invoke(self, context, event):

@@ -116,7 +116,10 @@ class VOODOO_PT_record(_ClipPanel, bpy.types.Panel):
         sub.prop(s, "osc_target", text="")
         sub.prop(s, "osc_bundle", text="", icon="PACKAGE")
         layout.operator("voodoo.record_take", icon="REC")
-        layout.operator("voodoo.track_clip", icon="TRACKING_FORWARDS")
+        row = layout.row(align=True)
+        row.operator("voodoo.track_clip", icon="TRACKING_FORWARDS")
+        both = row.operator("voodoo.track_clip", text="Both Ways", icon="TRACKING_CLEAR_BACKWARDS")
+        both.both_ways = True
         if live_state.get("rate"):
             text = f"Tracking {live_state['rate']:.0f} fps, latency "
             text += f"{1000 * live_state['latency']:.0f} ms"

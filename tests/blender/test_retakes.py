@@ -215,3 +215,36 @@ def test_a_crash_mid_take_keeps_every_recorded_frame(ctx, clip_file, sub, tmp_pa
     s.last_take = "Crashed"
     assert bpy.ops.voodoo.apply_take() == {"FINISHED"}
     assert len(_take_actions("Crashed")) == 1
+
+
+def test_a_take_tracked_both_ways_is_a_new_take_with_its_own_action(prepared, sub, make):
+    """Track Whole Clip, Both Ways: the clip is tracked again backwards from its end and the
+    surer pass kept frame by frame. It is stored as a new take beside the forward one (whose
+    action stays), over the same frames, as near the truth, with the work of both passes."""
+    ctx = prepared
+    store = sub("operators.storage")
+    s = ctx.scene.voodoo
+    obj = make.flat_target(keyed=False)
+    first = _track(ctx, obj)
+    forward = store.stored_take(s.blob, first).take
+    first_action = obj.animation_data.action
+    both_name = _track(ctx, obj, both_ways=True)
+    assert both_name != first
+    both = store.stored_take(s.blob, both_name).take
+    np.testing.assert_array_equal(both.frame_indices, forward.frame_indices)
+    assert not both.lost.any() and np.isfinite(both.params).all()
+    assert np.all(both.iterations > forward.iterations)  # the backward pass's work is in it
+    # The doll is followed throughout by either pass: the merge stays within a pixel.
+    assert np.linalg.norm(both.vertices - forward.vertices, axis=2).mean() < 1.0
+    assert _take_actions(first) == [first_action]
+    assert obj.animation_data.action is not first_action
+    assert obj.animation_data.action.get("voodoo_take") == both_name
+
+
+def test_both_ways_on_a_camera_take_keeps_it_as_tracked_and_says_so(ctx, sub):
+    """A camera's frames cannot be read again: the take is kept as tracked, with a note."""
+    recorder = sub("operators.recorder")
+    rec = recorder.Recorder.__new__(recorder.Recorder)
+    rec.clip, rec.notes = None, []
+    assert rec._tracked_both_ways() == {}
+    assert "needs a movie clip" in rec.notes[0]

@@ -167,6 +167,26 @@ def test_track_writes_the_contract_npz(repo_root, files, tmp_path):
     assert np.mean(err) < 0.5
 
 
+def test_track_both_ways_writes_the_same_contract(repo_root, files, tmp_path):
+    """``--both-ways``: the file tracked again backwards and merged; the same take file,
+    as near the truth, with the work of both passes; its progress is said too."""
+    d, truth = files
+    one, both = tmp_path / "one.npz", tmp_path / "both.npz"
+    args = ("track", d / "clip.avi", "--contour", d / "contour.json", "--out")
+    assert run_cli(repo_root, *args, one, "--quiet").returncode == 0
+    proc = run_cli(repo_root, *args, both, "--both-ways")
+    assert proc.returncode == 0, proc.stderr
+    assert "backwards" in proc.stderr
+    with np.load(one) as a, np.load(both) as b:
+        assert set(a.files) == set(b.files)
+        assert b["vertices"].shape == a["vertices"].shape and not b["lost"].any()
+        np.testing.assert_array_equal(b["frame_indices"], a["frame_indices"])
+        assert np.all(b["iterations"] > a["iterations"])
+        v = b["vertices"]
+    err = [np.linalg.norm(v[i] - truth(i, v[0]), axis=1).mean() for i in range(len(v))]
+    assert np.mean(err) < 0.5
+
+
 def test_track_progress_goes_to_stderr(repo_root, files, tmp_path):
     d, _ = files
     out = tmp_path / "t.npz"

@@ -20,9 +20,12 @@ import numpy as np
 from ..blob.build import build_blob
 from ..blob.outline import load_contour_json
 from ..media.images import to_float_rgb
-from ..media.sources import open_source
+from ..media.sources import ArraySource, open_source
+from ..takes.both_ways import track_both_ways
+from ..takes.take import Take
 from ..tracking import Tracker
 from ..tracking.quality import score_track
+from ..tracking.troupe import Troupe
 from .baselines import track_dis, track_klt
 
 SAMPLES = Path(__file__).resolve().parents[2] / "samples"
@@ -158,6 +161,39 @@ def track_ours(frames, blob, options=None, params=False, visible=False):
     out = np.array(verts), np.array(lost), np.array(times), np.array(conf)
     out += (np.array(rows),) if params else ()
     return (*out, np.array(seen)) if visible else out
+
+
+def track_ours_both_ways(frames, blob, forward, options=None):
+    """Ours tracked back from the end of a forward track and merged with it.
+
+    ``forward``: what ``track_ours(frames, blob, options, params=True, visible=True)`` gave
+    on the same frames (see :mod:`voodoo_addon.takes.both_ways`). Returns the same six
+    arrays for the merged take; its seconds are each frame's two passes together (the
+    frames but the first and the last, which each pass starts on).
+    """
+    verts, lost, secs, conf, params, visible = forward
+    n = len(frames)
+    troupe = Troupe({"doll": blob}, options=options)
+    take = Take(
+        vertices=verts,
+        triangles=blob.triangles,
+        params=params,
+        confidence=conf,
+        lost=lost,
+        param_names=np.array(troupe.trackers["doll"].parameter_names, dtype=str),
+        frame_indices=np.arange(n),
+        times=np.arange(n) / 30.0,
+        fps=30.0,
+        iterations=np.zeros(n, np.int64),
+        visible=visible,
+    )
+    stamps = [time.perf_counter()]
+    merged = track_both_ways(
+        troupe, ArraySource(frames), {"doll": take}, lambda _: stamps.append(time.perf_counter())
+    )["doll"]
+    back = np.diff(stamps)[::-1]  # frame i's backward pass at [i]
+    both = np.asarray(secs)[:-1] + back[1:-1] if n > 2 else np.zeros(0)
+    return merged.vertices, merged.lost, both, merged.confidence, merged.params, merged.visible
 
 
 def run_clip(clip: Clip, trackers=("ours", "klt", "dis"), options=None) -> list[dict]:

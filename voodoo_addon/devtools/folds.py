@@ -49,7 +49,15 @@ from ..tracking.proposals import PointFit
 from ..tracking.quality import score_track
 from .baselines import track_dis, track_klt
 from .camera import CameraFaults, add_camera_arguments, chosen_camera, degrade
-from .clips import SAMPLES, Clip, LatticeTruth, read_clip, track_ours, truth_errors
+from .clips import (
+    SAMPLES,
+    Clip,
+    LatticeTruth,
+    read_clip,
+    track_ours,
+    track_ours_both_ways,
+    truth_errors,
+)
 
 FOLDS = SAMPLES / "folds"
 #: Renders of the same kinds of motion in other paint and motion, made after the tracker's
@@ -76,7 +84,9 @@ SUBPIXEL = 1.0
 MARKED_FROM = 0.1
 #: What the benchmark runs on every clip: the three trackers, then the nearest shape the
 #: modes can take (the ``modes`` row, :func:`nearest_modal`).
-TRACKERS = ("ours", "klt", "dis", "modes")
+#: ``both``: ours tracked forward, then back from the end, merged (a recorded take's
+#: ``--both-ways``, see :mod:`voodoo_addon.takes.both_ways`).
+TRACKERS = ("ours", "both", "klt", "dis", "modes")
 
 
 def fold_clips(root: Path = FOLDS) -> list[Clip]:
@@ -264,12 +274,15 @@ def run_fold_clip(
     truth = LatticeTruth(clip.truth)
     layout = ParamLayout(tuple(str(n) for n in blob.labels))
     rows = []
+    forward = None
     for name in trackers:
         extra = {}
-        if name == "ours":
-            verts, lost, secs, conf, params, visible = track_ours(
-                frames, blob, options, params=True, visible=True
-            )
+        if name in ("ours", "both"):
+            if forward is None:
+                forward = track_ours(frames, blob, options, params=True, visible=True)
+            both = name == "both"
+            got = track_ours_both_ways(frames, blob, forward, options) if both else forward
+            verts, lost, secs, conf, params, visible = got
             amps = params[:, layout.modes]
             extra["confidence"] = np.round(conf, 3).tolist()
             hidden_marked, seen_marked = marked(blob, truth, visible, lost)
@@ -323,7 +336,9 @@ def format_folds(rows: list[dict]) -> str:
         back, rec = _recovery(r["returned_at"], r["recovery_frames"])
         opened, open_rec = _recovery(r["opened_at"], r["open_recovery_frames"])
         name = f"{r['clip']} (held out)" if r["held_out"] else r["clip"]
-        tracker = "*modes at best*" if r["tracker"] == "modes" else r["tracker"]
+        tracker = {"modes": "*modes at best*", "both": "ours, both ways"}.get(
+            r["tracker"], r["tracker"]
+        )
         ms = "—" if r["median_ms"] is None else f"{r['median_ms']:.1f} / {r['p95_ms']:.1f}"
         jump = mark = "—"
         if "hidden_marked" in r:

@@ -1,0 +1,171 @@
+"""A recorded take tracked both ways: forward as recorded, then backward from its end.
+
+Live, the tracker has only the frames so far. When a folded or turned part comes back it
+shows first as a sliver, edge-on, and the tracker must find it again from that; it can also
+lose the doll for a few frames while it does. A recorded take has its end as well: tracked
+backwards from its last frame, the returning part is a part *leaving* view, and the tracker
+follows it from where it is well seen. Each pass is better on other frames, so
+:func:`merge` keeps, frame by frame, the pass whose fit is surer:
+
+- the confidences are compared averaged over :data:`WINDOW` frames (one frame's confidence
+  is noisy, and a pass picked for one frame only would flicker);
+- a change from one pass to the other is spread over :data:`FADE` frames (the nodes and the
+  parameters crossfade), so the mode values stay continuous where the two passes disagree;
+- where one pass lost the doll and the other did not, the other is taken as it is.
+
+On the fold renders (``samples/folds`` and the held-out batches, ``python -m
+voodoo_addon.devtools.folds --both-ways``) this lowers the node error, leaves no frame lost
+while a third of the doll is in view, and makes the largest mode jump smaller than either
+pass's; see BENCHMARKS.md. It costs a second tracking of the take, so it is for recorded
+takes (``voodoo track --both-ways``), never the live stream.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+
+import numpy as np
+
+from ..errors import VoodooError
+from ..media.sources import FrameSource
+from ..tracking.troupe import Troupe
+from .take import Take
+
+#: Frames the two passes' confidences are averaged over before they are compared.
+WINDOW = 5
+#: Frames a change from one pass to the other is spread over.
+FADE = 5
+#: Frames read at a time when reading a file backwards (each chunk from one seek).
+CHUNK = 32
+
+
+def frames_backward(source: FrameSource, first: int, last: int, chunk: int = CHUNK) -> Iterator:
+    """The frames ``last`` down to ``first`` of a file, read a chunk at a time from a seek.
+
+    Raises VoodooError for a camera (its past frames are gone) or a frame that cannot be
+    read again.
+    """
+    if source.live:
+        raise VoodooError(
+            "A camera's take cannot be tracked backwards: record it to a file, then track the file."
+        )
+    end = last + 1
+    while end > first:
+        start = max(first, end - chunk)
+        source.seek(start)
+        frames = []
+        for _ in range(end - start):
+            frame = source.read()
+            if frame is None:
+                raise VoodooError(
+                    f"Frame {start + len(frames)} could not be read again to track the take "
+                    "backwards (the file is damaged or changed)."
+                )
+            frames.append(frame)
+        yield from reversed(frames)
+        end = start
+
+
+def track_backward(
+    troupe: Troupe,
+    source: FrameSource,
+    forward: dict[str, Take],
+    progress: Callable[[int], None] | None = None,
+) -> dict[str, Take]:
+    """Every doll tracked from the end of its forward take back to its start.
+
+    Each doll starts from its pose on the take's last frame. The takes returned are in
+    forward order, row for row with ``forward``.
+    """
+    first = next(iter(forward.values()))
+    indices = first.frame_indices
+    troupe.reset()
+    for name, take in forward.items():
+        troupe.trackers[name].reset(take.params[-1])
+    results = {name: [] for name in troupe.names}
+    for done, frame in enumerate(frames_backward(source, int(indices[0]), int(indices[-1]))):
+        expected = int(indices[len(indices) - 1 - done])
+        if frame.index != expected:
+            raise VoodooError(
+                f"Read frame {frame.index} where frame {expected} was expected: the take was "
+                "not tracked from consecutive frames of this source."
+            )
+        for name, r in troupe.track(frame.pixels).items():
+            results[name].append(r)
+        if progress is not None:
+            progress(done + 1)
+    return {
+        name: Take.from_results(
+            results[name][::-1],
+            troupe.blobs[name].triangles,
+            troupe.trackers[name].parameter_names,
+            take.frame_indices,
+            take.times,
+            take.fps,
+        )
+        for name, take in forward.items()
+    }
+
+
+def _mean(x: np.ndarray, width: int) -> np.ndarray:
+    """Running mean over ``width`` frames, the ends held (same length)."""
+    if width <= 1 or len(x) < 2:
+        return x.astype(np.float64)
+    pad = width // 2
+    padded = np.pad(x.astype(np.float64), (pad, width - 1 - pad), mode="edge")
+    return np.convolve(padded, np.ones(width) / width, mode="valid")
+
+
+def backward_share(forward: Take, backward: Take) -> np.ndarray:
+    """Per frame, the weight (T,) in [0, 1] of the backward pass in the merge.
+
+    1 where the backward pass is surer over :data:`WINDOW` frames, 0 where the forward one
+    is, crossfaded over :data:`FADE` frames between; exactly 0 or 1 where one pass lost the
+    doll and the other did not.
+    """
+    score_f = _mean(np.where(forward.lost, -1.0, forward.confidence), WINDOW)
+    score_b = _mean(np.where(backward.lost, -1.0, backward.confidence), WINDOW)
+    share = _mean((score_b > score_f).astype(np.float64), FADE)
+    share = np.where(forward.lost & ~backward.lost, 1.0, share)
+    return np.where(backward.lost & ~forward.lost, 0.0, share)
+
+
+def merge(forward: Take, backward: Take) -> Take:
+    """One take from two passes over the same frames (see the module's list)."""
+    if len(forward) != len(backward) or not np.array_equal(
+        forward.frame_indices, backward.frame_indices
+    ):
+        raise VoodooError("The two passes do not cover the same frames; they cannot be merged.")
+    if list(forward.param_names) != list(backward.param_names):
+        raise VoodooError("The two passes belong to different blobs; they cannot be merged.")
+    w = backward_share(forward, backward)
+    back = w >= 0.5
+
+    def mixed(f: np.ndarray, b: np.ndarray) -> np.ndarray:
+        shape = (-1,) + (1,) * (f.ndim - 1)
+        return (1.0 - w).reshape(shape) * f + w.reshape(shape) * b
+
+    return Take(
+        vertices=mixed(forward.vertices, backward.vertices),
+        triangles=forward.triangles,
+        params=mixed(forward.params, backward.params),
+        confidence=mixed(forward.confidence, backward.confidence),
+        lost=np.where(back, backward.lost, forward.lost),
+        param_names=forward.param_names,
+        frame_indices=forward.frame_indices,
+        times=forward.times,
+        fps=forward.fps,
+        iterations=forward.iterations + backward.iterations,
+        visible=np.where(back[:, None], backward.visible, forward.visible),
+    )
+
+
+def track_both_ways(
+    troupe: Troupe,
+    source: FrameSource,
+    forward: dict[str, Take],
+    progress: Callable[[int], None] | None = None,
+) -> dict[str, Take]:
+    """The forward takes merged with a backward pass over the same frames (see :func:`merge`)."""
+    backward = track_backward(troupe, source, forward, progress)
+    return {name: merge(take, backward[name]) for name, take in forward.items()}
