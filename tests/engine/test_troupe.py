@@ -18,6 +18,7 @@ from voodoo_addon.blob.outline import check_apart, contour_name
 from voodoo_addon.devtools.synthetic import write_frames
 from voodoo_addon.errors import VoodooError
 from voodoo_addon.media.sources import ArraySource
+from voodoo_addon.takes.both_ways import track_both_ways
 from voodoo_addon.takes.dolls import (
     load_takes,
     save_takes,
@@ -103,6 +104,22 @@ def test_both_dolls_are_followed_through_the_crossing(two_dolls):
     assert apart[-1] == FRAMES - 1 and len(apart) > 8
     back = np.linalg.norm(right.vertices[apart[-5:]] - blobs["right"].vertices, axis=2)
     assert back.max() < 0.5, back.max()
+
+
+def test_several_dolls_tracked_both_ways_cross_again_backwards(two_dolls):
+    """Both ways (``takes.both_ways``): backwards, the cards cross again from the other
+    side; the merged takes keep each doll on its card and the one behind covered, not lost."""
+    frames, blobs, _, takes = two_dolls
+    both = track_both_ways(Troupe(blobs), ArraySource(frames, fps=30.0), takes)
+    assert list(both) == ["left", "right"]
+    for name, take in both.items():
+        assert len(take) == FRAMES and not take.lost.any(), name
+        np.testing.assert_array_equal(take.frame_indices, takes[name].frame_indices)
+    shift = np.array([_left_x(i) - LEFT0 for i in range(FRAMES)])
+    err = np.abs(both["left"].vertices - blobs["left"].vertices - shift[:, None, None] * [1, 0])
+    assert err.max() < 1.0, err.max()
+    still = np.linalg.norm(both["right"].vertices - blobs["right"].vertices, axis=2)
+    assert np.median(still) < 0.5 and still[-5:].max() < 0.5
 
 
 def test_the_doll_behind_is_covered_not_lost(two_dolls):
