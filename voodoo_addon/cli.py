@@ -122,7 +122,10 @@ def cmd_track(args) -> int:
         if args.both_ways:
             n = len(next(iter(takes.values())))
             back = ProgressBar(n, "backwards") if long_clip and not args.quiet else None
-            takes = track_both_ways(troupe, src, takes, back)
+            try:
+                takes = track_both_ways(troupe, src, takes, back)
+            except VoodooError as exc:
+                print(f"warning: {exc} The take is kept as tracked forward.", file=sys.stderr)
     save_takes(args.out, takes)
     if short:
         print(f"warning: {short}", file=sys.stderr)

@@ -6,7 +6,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from voodoo_addon.blob.build import build_blob
 from voodoo_addon.devtools.folds import HELDOUT_FOLDS2, HELDOUT_FOLDS3, fold_clips, run_fold_clip
+from voodoo_addon.devtools.scenarios import scenario_take
 from voodoo_addon.errors import VoodooError
 from voodoo_addon.media.sources import ArraySource
 from voodoo_addon.takes.both_ways import (
@@ -14,8 +16,13 @@ from voodoo_addon.takes.both_ways import (
     backward_share,
     frames_backward,
     merge,
+    start_row,
+    track_backward,
+    track_both_ways,
 )
+from voodoo_addon.takes.dolls import track_dolls
 from voodoo_addon.takes.take import Take
+from voodoo_addon.tracking.troupe import Troupe
 
 T, M, TRI, P = 30, 4, 2, 3
 
@@ -107,6 +114,31 @@ def test_a_camera_cannot_be_read_backwards():
     source.live = True
     with pytest.raises(VoodooError, match="camera"):
         next(frames_backward(source, 0, 2))
+
+
+def test_the_backward_pass_starts_on_the_last_frame_the_doll_was_surely_found():
+    """A take that ends with the doll gone (grey frames, lost forward): the backward pass
+    starts on the last frame found surely; the frames after it keep the forward pass (lost,
+    the pose held), the frames before are found both ways."""
+    frames, contour, _ = scenario_take("translate", 14, (320, 240), blob_pixels=5000)
+    grey = np.full_like(frames[0], 0.5)
+    frames = list(frames) + [grey] * 4
+    troupe = Troupe({"doll": build_blob(frames[0], contour)})
+    forward = track_dolls(troupe, ArraySource(frames))
+    assert forward["doll"].lost[-4:].all() and not forward["doll"].lost[:14].any()
+    assert start_row(forward) == 13
+    both = track_both_ways(troupe, ArraySource(frames), forward)["doll"]
+    assert not both.lost[:14].any() and both.lost[-4:].all()
+    np.testing.assert_allclose(both.params[-4:], forward["doll"].params[-4:], atol=1e-9)
+    np.testing.assert_array_equal(both.frame_indices, np.arange(18))
+    assert np.abs(both.vertices[:14] - forward["doll"].vertices[:14]).max() < 0.5
+
+
+def test_a_take_never_surely_found_is_not_tracked_backwards():
+    lost = np.ones(T, bool)
+    with pytest.raises(VoodooError, match="nothing to track it backwards from"):
+        track_backward(None, None, {"doll": _take(np.zeros(T), 0.9, lost)})
+    assert start_row({"doll": _take(np.zeros(T), 0.4)}) is None
 
 
 #: The held-out renders the forward pass alone falls short on (BENCHMARKS.md): frames of

@@ -17,13 +17,14 @@ On the fold renders (``samples/folds`` and the held-out batches, ``python -m
 voodoo_addon.devtools.folds --trackers ours both``), clean, redrawn and through a camera,
 this lowers the node error on 145 of 162 tracks and the largest mode jump on average, and
 all but one of the 53 frames lost while a third of the doll is in view are found
-(BENCHMARKS.md, *A recorded take tracked both ways*). It costs a second tracking of the take, so it is for recorded takes
-(``voodoo track --both-ways``), never the live stream.
+(BENCHMARKS.md, *A recorded take tracked both ways*). It costs a second tracking of the
+take, so it is for recorded takes (``voodoo track --both-ways``), never the live stream.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
+from dataclasses import replace
 
 import numpy as np
 
@@ -38,6 +39,11 @@ WINDOW = 5
 FADE = 5
 #: Frames read at a time when reading a file backwards (each chunk from one seek).
 CHUNK = 32
+#: The backward pass starts on the last frame where every doll was found at least this
+#: surely: a take often ends with the doll put down or out of the picture, and a pass
+#: started from a held or doubtful pose would have to find the doll first. The frames
+#: after it keep the forward pass.
+SURE = 0.5
 
 
 def frames_backward(source: FrameSource, first: int, last: int, chunk: int = CHUNK) -> Iterator:
@@ -75,17 +81,26 @@ def track_backward(
 ) -> dict[str, Take]:
     """Every doll tracked from the end of its forward take back to its start.
 
-    Each doll starts from its pose on the take's last frame. The takes returned are in
-    forward order, row for row with ``forward``.
+    The pass starts on the last frame every doll was found on at least :data:`SURE` surely
+    (:func:`start_row`), each doll from its pose there; on the frames after it the takes
+    returned are the forward ones. They are in forward order, row for row with ``forward``.
+
+    Raises VoodooError when no frame is that sure (nothing to start from).
     """
     first = next(iter(forward.values()))
     indices = first.frame_indices
+    start = start_row(forward)
+    if start is None:
+        raise VoodooError(
+            f"No frame of the take has every doll found at a confidence of {SURE} or more: "
+            "there is nothing to track it backwards from."
+        )
     troupe.reset()
     for name, take in forward.items():
-        troupe.trackers[name].reset(take.params[-1])
+        troupe.trackers[name].reset(take.params[start])
     results = {name: [] for name in troupe.names}
-    for done, frame in enumerate(frames_backward(source, int(indices[0]), int(indices[-1]))):
-        expected = int(indices[len(indices) - 1 - done])
+    for done, frame in enumerate(frames_backward(source, int(indices[0]), int(indices[start]))):
+        expected = int(indices[start - done])
         if frame.index != expected:
             raise VoodooError(
                 f"Read frame {frame.index} where frame {expected} was expected: the take was "
@@ -95,17 +110,34 @@ def track_backward(
             results[name].append(r)
         if progress is not None:
             progress(done + 1)
-    return {
-        name: Take.from_results(
+    out = {}
+    for name, take in forward.items():
+        back = Take.from_results(
             results[name][::-1],
             troupe.blobs[name].triangles,
             troupe.trackers[name].parameter_names,
-            take.frame_indices,
-            take.times,
+            take.frame_indices[: start + 1],
+            take.times[: start + 1],
             take.fps,
         )
-        for name, take in forward.items()
-    }
+        out[name] = (
+            back.extended(_rows(take, slice(start + 1, None))) if start + 1 < len(take) else back
+        )
+    return out
+
+
+def start_row(forward: dict[str, Take]) -> int | None:
+    """The last row where every doll is found at least :data:`SURE` surely, or None."""
+    sure = np.logical_and.reduce([~t.lost & (t.confidence >= SURE) for t in forward.values()])
+    rows = np.flatnonzero(sure)
+    return int(rows[-1]) if len(rows) else None
+
+
+def _rows(take: Take, rows: slice) -> Take:
+    """The take's rows ``rows``."""
+    per_row = ("vertices", "params", "confidence", "lost", "frame_indices", "times")
+    per_row += ("iterations", "visible")
+    return replace(take, **{k: getattr(take, k)[rows] for k in per_row})
 
 
 def _mean(x: np.ndarray, width: int) -> np.ndarray:
