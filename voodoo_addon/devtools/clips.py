@@ -191,7 +191,9 @@ def track_ours_both_ways(frames, blob, forward, options=None):
     merged = track_both_ways(
         troupe, ArraySource(frames), {"doll": take}, lambda _: stamps.append(time.perf_counter())
     )["doll"]
-    back = np.diff(stamps)[::-1]  # frame i's backward pass at [i]
+    back = np.zeros(n)  # frame i's backward pass at [i] (none after the frame it starts on)
+    done = np.diff(stamps)[::-1]
+    back[: len(done)] = done
     both = np.asarray(secs)[:-1] + back[1:-1] if n > 2 else np.zeros(0)
     return merged.vertices, merged.lost, both, merged.confidence, merged.params, merged.visible
 
