@@ -17,6 +17,7 @@ from ..voodoo_addon.media.prefetch import PENDING, Prefetcher
 from ..voodoo_addon.media.sources import open_source
 from ..voodoo_addon.stream import OscSender
 from ..voodoo_addon.takes.both_ways import track_both_ways
+from ..voodoo_addon.takes.take import ProgressBar
 from ..voodoo_addon.tracking import Tracker
 from ..voodoo_addon.tracking.troupe import Troupe
 from . import drawing
@@ -349,18 +350,28 @@ class Recorder:
             return {}
         s = self.scene.voodoo
         forward = {d.name: d.take_of(self.rows, self.source.fps) for d in self.dolls}
+        wm = bpy.context.window_manager
+        bar = ProgressBar(len(self.rows), "backwards") if bpy.app.background else None
+
+        def progress(done: int) -> None:
+            wm.progress_update(int(100 * done / len(self.rows)))
+            if bar is not None:
+                bar(done)
+
         backend, _ = make_backend(s.warp)
+        wm.progress_begin(0, 100)
         try:
             trackers = {
                 d.name: Tracker(d.blob, backend=backend, frozen=_frozen(s)) for d in self.dolls
             }
             troupe = Troupe({d.name: d.blob for d in self.dolls}, trackers=trackers)
             with open_clip(self.clip) as source:
-                return track_both_ways(troupe, source, forward)
+                return track_both_ways(troupe, source, forward, progress)
         except VoodooError as exc:
             self.notes.append(f"{exc} The take was kept as tracked forward.")
             return {}
         finally:
+            wm.progress_end()
             backend.close()
 
     def finish(self) -> dict:
