@@ -131,6 +131,7 @@ def test_the_backward_pass_starts_on_the_last_frame_the_doll_was_surely_found():
     assert not both.lost[:14].any() and both.lost[-4:].all()
     np.testing.assert_allclose(both.params[-4:], forward["doll"].params[-4:], atol=1e-9)
     np.testing.assert_array_equal(both.frame_indices, np.arange(18))
+    np.testing.assert_array_equal(both.iterations[-4:], forward["doll"].iterations[-4:])
     assert np.abs(both.vertices[:14] - forward["doll"].vertices[:14]).max() < 0.5
 
 

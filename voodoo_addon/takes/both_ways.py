@@ -83,7 +83,8 @@ def track_backward(
 
     The pass starts on the last frame every doll was found on at least :data:`SURE` surely
     (:func:`start_row`), each doll from its pose there; on the frames after it the takes
-    returned are the forward ones. They are in forward order, row for row with ``forward``.
+    returned are the forward ones (with no iterations: no work was done there). They are in
+    forward order, row for row with ``forward``.
 
     Raises VoodooError when no frame is that sure (nothing to start from).
     """
@@ -120,9 +121,9 @@ def track_backward(
             take.times[: start + 1],
             take.fps,
         )
-        out[name] = (
-            back.extended(_rows(take, slice(start + 1, None))) if start + 1 < len(take) else back
-        )
+        after = _rows(take, slice(start + 1, None))  # as tracked forward, no work of its own
+        after = replace(after, iterations=np.zeros_like(after.iterations))
+        out[name] = back.extended(after) if len(after) else back
     return out
 
 
