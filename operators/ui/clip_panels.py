@@ -118,7 +118,7 @@ class VOODOO_PT_record(_ClipPanel, bpy.types.Panel):
         layout.operator("voodoo.record_take", icon="REC")
         row = layout.row(align=True)
         row.operator("voodoo.track_clip", icon="TRACKING_FORWARDS")
-        both = row.operator("voodoo.track_clip", text="Both Ways", icon="TRACKING_CLEAR_BACKWARDS")
+        both = row.operator("voodoo.track_clip", text="Both Ways", icon="TRACKING_BACKWARDS")
         both.both_ways = True
         if live_state.get("rate"):
             text = f"Tracking {live_state['rate']:.0f} fps, latency "
