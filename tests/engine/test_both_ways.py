@@ -14,6 +14,7 @@ from voodoo_addon.media.sources import ArraySource
 from voodoo_addon.takes.both_ways import (
     FADE,
     backward_share,
+    found_again,
     frames_backward,
     merge,
     start_row,
@@ -80,8 +81,27 @@ def test_a_frame_one_pass_lost_is_the_other_pass_as_it_is():
     np.testing.assert_array_equal(both.params[lost, 0], np.ones(3))
     assert not both.lost.any()
     assert both.visible[lost].all()
-    # Elsewhere the surer forward pass.
-    assert np.all(both.params[:8, 0] == 0.0) and np.all(both.params[-8:, 0] == 0.0)
+    # Before the loss, the surer forward pass. After it, the forward pass has just found
+    # the whole doll again: the backward pass, which kept it, is taken for AGAIN_FRAMES
+    # frames; then the surer forward pass again.
+    assert np.all(both.params[:8, 0] == 0.0)
+    np.testing.assert_array_equal(found_again(fwd)[15:25], np.ones(10))
+    assert np.all(both.params[15:21, 0] == 1.0) and np.all(both.params[-3:, 0] == 0.0)
+
+
+def test_a_part_just_found_again_is_counted_in_each_pass_s_own_direction_of_time():
+    """Three of six triangles out of view on frames 5-7: forward, they are found again on
+    frames 8-17 (the :data:`AGAIN_FRAMES` after); backward, on frames 4 down to 0."""
+    take = _take(np.zeros(20), 0.9)
+    visible = np.ones((20, 6), bool)
+    visible[5:8, :3] = False
+    take = Take(**{**take.__dict__, "visible": visible})
+    forward = np.zeros(20)
+    forward[8:18] = 0.5
+    backward = np.zeros(20)
+    backward[:5] = 0.5
+    np.testing.assert_array_equal(found_again(take), forward)
+    np.testing.assert_array_equal(found_again(take, backward=True), backward)
 
 
 def test_two_equal_passes_merge_to_themselves():

@@ -37,6 +37,14 @@ from .take import Take
 WINDOW = 5
 #: Frames a change from one pass to the other is spread over.
 FADE = 5
+#: A part a pass has just found again, after a fold or a turn, is placed worse than by a
+#: pass that followed it as it left view, though its confidence may be as high: the whole
+#: doll's quality hardly falls for a part a few pixels off (sheet_foldover's flap: 0.87-0.98
+#: with the flap 2-8 px off). Each pass's confidence is lowered by :data:`AGAIN_DOUBT`
+#: times the share of the triangles it sees that it did not see on one of the
+#: :data:`AGAIN_FRAMES` frames before (in its own direction of time).
+AGAIN_FRAMES = 10
+AGAIN_DOUBT = 0.5
 #: Frames read at a time when reading a file backwards (each chunk from one seek).
 CHUNK = 32
 #: The backward pass starts on the last frame where every doll was found at least this
@@ -150,15 +158,35 @@ def _mean(x: np.ndarray, width: int) -> np.ndarray:
     return np.convolve(padded, np.ones(width) / width, mode="valid")
 
 
+def found_again(take: Take, backward: bool = False) -> np.ndarray:
+    """Per frame, the share (T,) of the doll a pass has just found again.
+
+    The triangles it sees that it did not see on one of the :data:`AGAIN_FRAMES` frames
+    before (after, for a backward pass: before in its own time).
+    """
+    unseen = ~np.asarray(take.visible, bool)
+    if backward:
+        unseen = unseen[::-1]
+    counts = np.vstack([np.zeros((1, unseen.shape[1]), np.int64), np.cumsum(unseen, axis=0)])
+    rows = np.arange(len(unseen))
+    gone = (counts[rows] - counts[np.maximum(rows - AGAIN_FRAMES, 0)]) > 0
+    share = (gone & ~unseen).mean(axis=1)
+    return share[::-1] if backward else share
+
+
 def backward_share(forward: Take, backward: Take) -> np.ndarray:
     """Per frame, the weight (T,) in [0, 1] of the backward pass in the merge.
 
-    1 where the backward pass is surer over :data:`WINDOW` frames, 0 where the forward one
-    is, crossfaded over :data:`FADE` frames between; exactly 0 or 1 where one pass lost the
-    doll and the other did not.
+    Each pass's confidence less :data:`AGAIN_DOUBT` times the share of the doll it has just
+    found again (:func:`found_again`; a lost frame counts -1) is averaged over
+    :data:`WINDOW` frames. The weight is 1 where the backward pass scores higher, 0 where
+    the forward one does, crossfaded over :data:`FADE` frames between; exactly 0 or 1 where
+    one pass lost the doll and the other did not.
     """
-    score_f = _mean(np.where(forward.lost, -1.0, forward.confidence), WINDOW)
-    score_b = _mean(np.where(backward.lost, -1.0, backward.confidence), WINDOW)
+    doubt_f = AGAIN_DOUBT * found_again(forward)
+    doubt_b = AGAIN_DOUBT * found_again(backward, backward=True)
+    score_f = _mean(np.where(forward.lost, -1.0, forward.confidence - doubt_f), WINDOW)
+    score_b = _mean(np.where(backward.lost, -1.0, backward.confidence - doubt_b), WINDOW)
     share = _mean((score_b > score_f).astype(np.float64), FADE)
     share = np.where(forward.lost & ~backward.lost, 1.0, share)
     return np.where(backward.lost & ~forward.lost, 0.0, share)
