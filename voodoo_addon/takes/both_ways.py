@@ -8,7 +8,8 @@ follows it from where it is well seen. Each pass is better on other frames, so
 :func:`merge` keeps, frame by frame, the pass whose fit is surer:
 
 - the confidences are compared averaged over :data:`WINDOW` frames (one frame's confidence
-  is noisy, and a pass picked for one frame only would flicker);
+  is noisy, and a pass picked for one frame only would flicker), each less a doubt on a
+  part the pass has just found again (:data:`AGAIN_DOUBT`);
 - a change from one pass to the other is spread over :data:`FADE` frames (the nodes and the
   parameters crossfade), so the mode values stay continuous where the two passes disagree;
 - where one pass lost the doll and the other did not, the other is taken as it is.
