@@ -16,7 +16,7 @@ follows it from where it is well seen. Each pass is better on other frames, so
 
 On the fold renders (``samples/folds`` and the held-out batches, ``python -m
 voodoo_addon.devtools.folds --trackers ours both``), clean, redrawn and through a camera,
-this lowers the node error on 145 of 162 tracks and the largest mode jump on average, and
+this lowers the node error on 156 of 162 tracks and the largest mode jump on average, and
 all but one of the 53 frames lost while a third of the doll is in view are found
 (BENCHMARKS.md, *A recorded take tracked both ways*). It costs a second tracking of the
 take, so it is for recorded takes (``voodoo track --both-ways``), never the live stream.
