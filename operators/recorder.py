@@ -333,8 +333,8 @@ class Recorder:
                 doll.journal.discard()
             return None
         takes = self._tracked_both_ways() if self.both_ways else {}
+        fps = self.source.fps
         for doll in self.dolls:
-            fps = self.source.fps
             doll.keep(self.take_name, self.rows, self.rest_frame, fps, takes.get(doll.name))
         self.scene.voodoo.last_take = self.take_name
         return self.take_name

@@ -111,11 +111,11 @@ def cmd_track(args) -> int:
         troupe = _troupe(args, src)
         long_clip = src.count is None or src.count > 30
         bar = ProgressBar(src.count) if long_clip and not args.quiet else None
-        # Frames are decoded on a second thread (a second core) while this one tracks.
         if args.both_ways and src.live:
             raise VoodooError(
                 "--both-ways needs a file: a camera's frames cannot be read again backwards."
             )
+        # Frames are decoded on a second thread (a second core) while this one tracks.
         with Prefetcher(src, limit=args.frames) as ahead:
             takes = track_dolls(troupe, ahead, progress=bar, limit=args.frames)
         short = missing_frames(src, next(iter(takes.values())), args.frames, name=str(args.video))
