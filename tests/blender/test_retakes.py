@@ -241,10 +241,19 @@ def test_a_take_tracked_both_ways_is_a_new_take_with_its_own_action(prepared, su
     assert obj.animation_data.action.get("voodoo_take") == both_name
 
 
-def test_both_ways_on_a_camera_take_keeps_it_as_tracked_and_says_so(ctx, sub):
-    """A camera's frames cannot be read again: the take is kept as tracked, with a note."""
-    recorder = sub("operators.recorder")
-    rec = recorder.Recorder.__new__(recorder.Recorder)
-    rec.clip, rec.notes = None, []
-    assert rec._tracked_both_ways() == {}
-    assert "needs a movie clip" in rec.notes[0]
+def test_a_take_tracked_both_ways_survives_save_and_reload(prepared, sub, make, tmp_path):
+    ctx = prepared
+    store = sub("operators.storage")
+    s = ctx.scene.voodoo
+    name = _track(ctx, make.flat_target(keyed=False), both_ways=True)
+    take = store.stored_take(s.blob, name).take
+    path = tmp_path / "both.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(path))
+    bpy.ops.wm.read_homefile(use_empty=True)
+    bpy.ops.wm.open_mainfile(filepath=str(path))
+    store._cache.clear()  # really parse what was saved
+    s = bpy.context.scene.voodoo
+    again = store.stored_take(s.blob, name).take
+    np.testing.assert_array_equal(again.params, take.params)
+    np.testing.assert_array_equal(again.iterations, take.iterations)
+    assert bpy.data.objects["Flat"].animation_data.action.get("voodoo_take") == name

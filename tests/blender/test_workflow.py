@@ -309,6 +309,61 @@ def test_live_camera_take_is_time_stamped_and_saved(
     assert (tmp_path / "voodoo_footage" / f"{info['take']}.avi").exists()
 
 
+def test_both_ways_on_a_camera_take_keeps_it_as_tracked_and_says_so(
+    prepared, sub, make, clip_file, monkeypatch, tmp_path
+):
+    """A camera's frames cannot be read again: asked for both ways, the camera's take is
+    kept as tracked (its own iterations, one pass), with a note saying so."""
+    ctx = prepared
+    _fast_camera(sub, monkeypatch, clip_file["frames"], fps=30.0)
+    bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "camera_both.blend"))
+    s = ctx.scene.voodoo
+    s.source, s.camera_seconds = "CAMERA", 0.3
+    s.target = make.flat_target(keyed=False)
+    rec = sub("operators.recorder").Recorder(ctx, live=False, both_ways=True)
+    while rec.step(wait=True):
+        pass
+    tracked = [results["Doll"].iterations for *_, results in rec.rows]
+    info = rec.finish()
+    assert info["frames"] == len(tracked) > 0 and info["applied"]
+    assert any("Both Ways needs a movie clip" in n for n in info["notes"])
+    take = sub("operators.storage").stored_take(s.blob, info["take"]).take
+    assert take.iterations.tolist() == tracked
+
+
+def test_both_ways_stopped_with_escape_or_by_a_deleted_target_keeps_what_was_tracked(
+    prepared, sub, make
+):
+    """Esc during Track Whole Clip: Both Ways keeps the frames tracked so far, tracked both
+    ways; a target deleted mid-way ends the take, kept both ways and not applied."""
+    from types import SimpleNamespace
+
+    ctx = prepared
+    store = sub("operators.storage")
+    recorder = sub("operators.recorder")
+    ctx.scene.voodoo.target = make.flat_target(keyed=False)
+    op, _ = _modal_harness(sub, live=False, tick_seconds=0.0)
+    op._recorder = rec = recorder.Recorder(ctx, live=False, both_ways=True)
+    timer = SimpleNamespace(type="TIMER")
+    for _ in range(4):
+        assert op.modal(ctx, timer) == {"RUNNING_MODAL"}
+    forward = [results["Doll"].iterations for *_, results in rec.rows]
+    assert op.modal(ctx, SimpleNamespace(type="ESC")) == {"FINISHED"}
+    take = store.stored_take(ctx.scene.voodoo.blob, rec.take_name).take
+    assert len(take) == 4 and not take.lost.any()
+    assert np.all(take.iterations > forward)  # the backward pass's work is in it
+
+    rec = recorder.Recorder(ctx, live=False, both_ways=True)
+    assert rec.step() and rec.step() and rec.step()
+    bpy.data.objects.remove(bpy.data.objects["Flat"])
+    assert rec.step() is False
+    info = rec.finish()
+    assert info["frames"] == 3 and not info["applied"]
+    assert any("deleted during the take" in n for n in info["notes"])
+    take = store.stored_take(ctx.scene.voodoo.blob, info["take"]).take
+    assert len(take) == 3 and np.isfinite(take.params).all()
+
+
 def _fast_camera(sub, monkeypatch, frames, fps):
     """A live source far faster than tracking: a frame every 5 ms, time-stamped as a camera
     at ``fps`` would, while every frame takes the tracker 15 ms more than it needs."""
