@@ -32,6 +32,7 @@ import numpy as np
 from ..errors import VoodooError
 from ..media.sources import FrameSource
 from ..tracking.troupe import Troupe
+from .dolls import track_dolls
 from .take import Take
 
 #: Frames the two passes' confidences are averaged over before they are compared.
@@ -97,8 +98,7 @@ def track_backward(
 
     Raises VoodooError when no frame is that sure (nothing to start from).
     """
-    first = next(iter(forward.values()))
-    indices = first.frame_indices
+    indices = next(iter(forward.values())).frame_indices
     start = start_row(forward)
     if start is None:
         raise VoodooError(
@@ -108,32 +108,35 @@ def track_backward(
     troupe.reset()
     for name, take in forward.items():
         troupe.trackers[name].reset(take.params[start])
-    results = {name: [] for name in troupe.names}
-    for done, frame in enumerate(frames_backward(source, int(indices[0]), int(indices[start]))):
-        expected = int(indices[start - done])
-        if frame.index != expected:
-            raise VoodooError(
-                f"Read frame {frame.index} where frame {expected} was expected: the take was "
-                "not tracked from consecutive frames of this source."
-            )
-        for name, r in troupe.track(frame.pixels).items():
-            results[name].append(r)
-        if progress is not None:
-            progress(done + 1)
+    first_index, last_index = int(indices[0]), int(indices[start])
+    back = track_dolls(troupe, _Backwards(source, first_index, last_index), progress)
     out = {}
     for name, take in forward.items():
-        back = Take.from_results(
-            results[name][::-1],
-            troupe.blobs[name].triangles,
-            troupe.trackers[name].parameter_names,
-            take.frame_indices[: start + 1],
-            take.times[: start + 1],
-            take.fps,
-        )
+        got = _rows(back[name], slice(None, None, -1))  # forward order
+        if not np.array_equal(got.frame_indices, indices[: start + 1]):
+            raise VoodooError(
+                "The take was not tracked from consecutive frames of this source: it cannot "
+                "be tracked backwards from it."
+            )
+        got = replace(got, times=take.times[: start + 1])
         after = _rows(take, slice(start + 1, None))  # as tracked forward, no work of its own
         after = replace(after, iterations=np.zeros_like(after.iterations))
-        out[name] = back.extended(after) if len(after) else back
+        out[name] = got.extended(after) if len(after) else got
     return out
+
+
+class _Backwards:
+    """Frames ``first`` to ``last`` of ``source``, read backwards (:func:`frames_backward`).
+
+    What :func:`~.dolls.track_dolls` takes for a source: it iterates it and reads its fps.
+    """
+
+    def __init__(self, source: FrameSource, first: int, last: int):
+        self.fps = source.fps
+        self._span = (source, first, last)
+
+    def __iter__(self):
+        return frames_backward(*self._span)
 
 
 def start_row(forward: dict[str, Take]) -> int | None:
