@@ -14,9 +14,9 @@ import bpy
 from ..voodoo_addon.errors import VoodooError
 from ..voodoo_addon.media.images import to_uint8_bgr
 from ..voodoo_addon.media.prefetch import PENDING, Prefetcher
-from ..voodoo_addon.media.sources import open_source
+from ..voodoo_addon.media.sources import CaptureSource, open_source
 from ..voodoo_addon.stream import OscSender
-from ..voodoo_addon.takes.both_ways import track_both_ways
+from ..voodoo_addon.takes.both_ways import backward_frames, track_both_ways
 from ..voodoo_addon.takes.take import ProgressBar
 from ..voodoo_addon.tracking import Tracker
 from ..voodoo_addon.tracking.troupe import Troupe
@@ -58,7 +58,7 @@ class Recorder:
     both_ways : bool
         When the take is kept, track the clip's frames again backwards from its end and
         keep, frame by frame, the surer pass (:mod:`voodoo_addon.takes.both_ways`); a
-        camera's take is kept as tracked, with a note.
+        camera's take is tracked backwards on its footage, every frame the camera gave.
 
     Raises
     ------
@@ -340,21 +340,27 @@ class Recorder:
         return self.take_name
 
     def _tracked_both_ways(self) -> dict:
-        """Each doll's take merged with a backward pass over the clip's frames, by name.
+        """Each doll's take merged with a backward pass, by name.
 
-        Empty, with a note, when there is no clip to read again or it cannot be read: the
-        take is then kept as tracked.
+        The backward pass reads the clip again, or a camera's footage (which holds every
+        frame the camera gave, the take one per scene frame). Empty, with a note, when
+        there is nothing to read again or it cannot be read: the take is then kept as
+        tracked.
         """
-        if self.clip is None:
-            self.notes.append("Both Ways needs a movie clip: the take was kept as tracked.")
+        if self.clip is None and (self.footage is None or not self.footage.exists()):
+            self.notes.append(
+                "Both Ways needs a movie clip or the camera's footage: the take was kept "
+                "as tracked."
+            )
             return {}
         s = self.scene.voodoo
         forward = {d.name: d.take_of(self.rows, self.source.fps) for d in self.dolls}
+        total = max(backward_frames(forward), 1)
         wm = bpy.context.window_manager
-        bar = ProgressBar(len(self.rows), "backwards") if bpy.app.background else None
+        bar = ProgressBar(total, "backwards") if bpy.app.background else None
 
         def progress(done: int) -> None:
-            wm.progress_update(int(100 * done / len(self.rows)))
+            wm.progress_update(int(100 * done / total))
             if bar is not None:
                 bar(done)
 
@@ -365,7 +371,11 @@ class Recorder:
                 d.name: Tracker(d.blob, backend=backend, frozen=_frozen(s)) for d in self.dolls
             }
             troupe = Troupe({d.name: d.blob for d in self.dolls}, trackers=trackers)
-            with open_clip(self.clip) as source:
+            if self.clip is not None:
+                reread = open_clip(self.clip)
+            else:
+                reread = CaptureSource(str(self.footage))  # a video file, whatever the camera
+            with reread as source:
                 return track_both_ways(troupe, source, forward, progress)
         except VoodooError as exc:
             self.notes.append(f"{exc} The take was kept as tracked forward.")

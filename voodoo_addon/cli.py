@@ -101,7 +101,7 @@ def _troupe(args, src, name: str | None = None):
 def cmd_track(args) -> int:
     from .media.prefetch import Prefetcher
     from .media.sources import open_source
-    from .takes.both_ways import track_both_ways
+    from .takes.both_ways import backward_frames, track_both_ways
     from .takes.dolls import save_takes, track_dolls
     from .takes.take import ProgressBar, missing_frames
 
@@ -120,7 +120,7 @@ def cmd_track(args) -> int:
             takes = track_dolls(troupe, ahead, progress=bar, limit=args.frames)
         short = missing_frames(src, next(iter(takes.values())), args.frames, name=str(args.video))
         if args.both_ways:
-            n = len(next(iter(takes.values())))
+            n = backward_frames(takes)
             back = ProgressBar(n, "backwards") if long_clip and not args.quiet else None
             try:
                 takes = track_both_ways(troupe, src, takes, back)

@@ -115,7 +115,10 @@ class VOODOO_PT_record(_ClipPanel, bpy.types.Panel):
         sub.active = s.osc_send
         sub.prop(s, "osc_target", text="")
         sub.prop(s, "osc_bundle", text="", icon="PACKAGE")
-        layout.operator("voodoo.record_take", icon="REC")
+        row = layout.row(align=True)
+        row.operator("voodoo.record_take", icon="REC")
+        both = row.operator("voodoo.record_take", text="Both Ways", icon="TRACKING_BACKWARDS")
+        both.both_ways = True
         row = layout.row(align=True)
         row.operator("voodoo.track_clip", icon="TRACKING_FORWARDS")
         both = row.operator("voodoo.track_clip", text="Both Ways", icon="TRACKING_BACKWARDS")

@@ -241,6 +241,22 @@ def test_a_take_tracked_both_ways_is_a_new_take_with_its_own_action(prepared, su
     assert obj.animation_data.action.get("voodoo_take") == both_name
 
 
+def test_record_take_both_ways_from_a_script_tracks_the_take_both_ways(prepared, sub, make):
+    """Record Take has Both Ways too (the button beside it, an operator option): from a
+    script it records the whole clip, then tracks it again backwards."""
+    ctx = prepared
+    store = sub("operators.storage")
+    s = ctx.scene.voodoo
+    s.target = make.flat_target(keyed=False)
+    assert bpy.ops.voodoo.record_take() == {"FINISHED"}
+    forward = store.stored_take(s.blob, s.last_take).take
+    assert bpy.ops.voodoo.record_take(both_ways=True) == {"FINISHED"}
+    both = store.stored_take(s.blob, s.last_take).take
+    np.testing.assert_array_equal(both.frame_indices, forward.frame_indices)
+    assert np.all(both.iterations > forward.iterations)  # the backward pass's work is in it
+    assert s.target.animation_data.action.get("voodoo_take") == s.last_take
+
+
 def test_a_take_tracked_both_ways_survives_save_and_reload(prepared, sub, make, tmp_path):
     ctx = prepared
     store = sub("operators.storage")

@@ -31,7 +31,7 @@ class RecordingLayout:
         module, name = idname.split(".")
         assert hasattr(getattr(bpy.ops, module), name), f"no operator {idname}"
         self.log.append(("operator", idname))
-        return SimpleNamespace()  # the panel may set operator properties on it
+        return OperatorButton(self.log, idname)  # the panel may set operator properties
 
     def label(self, **kwargs):
         self.log.append(("label", kwargs.get("text", "")))
@@ -40,6 +40,21 @@ class RecordingLayout:
         assert hasattr(bpy.types, list_type), f"no UIList {list_type}"
         assert prop in data.bl_rna.properties and active_prop in active_data.bl_rna.properties
         self.log.append(("list", prop))
+
+
+class OperatorButton:
+    """Stands in for the operator properties a button is drawn with; checks each one set."""
+
+    def __init__(self, log, idname):
+        module, name = idname.split(".")
+        rna = getattr(getattr(bpy.ops, module), name).get_rna_type()
+        object.__setattr__(self, "_known", set(rna.properties.keys()))
+        object.__setattr__(self, "_log", log)
+        object.__setattr__(self, "_idname", idname)
+
+    def __setattr__(self, name, value):
+        assert name in self._known, f"{self._idname} has no property {name!r}"
+        self._log.append(("set", self._idname, name, value))
 
 
 @pytest.mark.parametrize("source", ["CLIP", "CAMERA"])
@@ -55,7 +70,7 @@ def test_panels_draw_real_properties_and_operators(prepared, sub, source):
     log = []
     for cls in panels:
         cls.draw(SimpleNamespace(layout=RecordingLayout(log)), ctx)
-    operators = {name for kind, name in log if kind == "operator"}
+    operators = {entry[1] for entry in log if entry[0] == "operator"}
     assert {
         "voodoo.capture_frame",
         "voodoo.contour_from_mask",
@@ -70,6 +85,10 @@ def test_panels_draw_real_properties_and_operators(prepared, sub, source):
     } <= operators
     assert ("list", "modes") in log
     assert (("prop", "camera_index") in log) == (source == "CAMERA")
+    # Both Ways beside Record Take and Track Whole Clip; Resume after a take.
+    assert ("set", "voodoo.record_take", "both_ways", True) in log
+    assert ("set", "voodoo.track_clip", "both_ways", True) in log
+    assert ("set", "voodoo.track_clip", "resume", True) in log
 
 
 def test_mode_list_rows(prepared, sub):

@@ -309,24 +309,58 @@ def test_live_camera_take_is_time_stamped_and_saved(
     assert (tmp_path / "voodoo_footage" / f"{info['take']}.avi").exists()
 
 
-def test_both_ways_on_a_camera_take_keeps_it_as_tracked_and_says_so(
+def test_both_ways_on_a_camera_take_tracks_its_footage_backwards(
     prepared, sub, make, clip_file, monkeypatch, tmp_path
 ):
-    """A camera's frames cannot be read again: asked for both ways, the camera's take is
-    kept as tracked (its own iterations, one pass), with a note saying so."""
+    """A camera at 60 fps into a 30 fps scene: the take keeps one camera frame per scene
+    frame, the footage every one. Asked for both ways, the footage is tracked backwards
+    over every frame, and the take, merged on its own rows, is stored and applied."""
     ctx = prepared
-    _fast_camera(sub, monkeypatch, clip_file["frames"], fps=30.0)
+    _fast_camera(sub, monkeypatch, clip_file["frames"], fps=60.0)
     bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "camera_both.blend"))
+    s = ctx.scene.voodoo
+    s.source, s.camera_seconds = "CAMERA", 0.3  # 18 camera frames
+    s.target = make.flat_target(keyed=False)
+    ctx.scene.render.fps = 30
+    rec = sub("operators.recorder").Recorder(ctx, live=False, both_ways=True)
+    while rec.step(wait=True):
+        pass
+    tracked = [results["Doll"].iterations for *_, results in rec.rows]
+    indices = [index for index, *_ in rec.rows]
+    info = rec.finish()
+    assert info["applied"] and not info["notes"], info["notes"]
+    assert info["frames"] == len(tracked) < 18  # one row per scene frame...
+    assert indices[-1] - indices[0] + 1 > len(indices)  # ...so the take skips frames
+    take = sub("operators.storage").stored_take(s.blob, info["take"]).take
+    assert take.frame_indices.tolist() == indices
+    assert np.all(take.iterations >= tracked) and np.any(take.iterations > tracked)
+    assert not take.lost.any() and np.isfinite(take.params).all()
+
+
+def test_both_ways_on_a_camera_take_whose_footage_cannot_be_read_keeps_it_as_tracked(
+    prepared, sub, make, clip_file, monkeypatch, tmp_path
+):
+    """The footage cannot be read again (here: a decoder that refuses it): the camera's
+    take is kept as tracked (its own iterations, one pass), with a note saying so."""
+    ctx = prepared
+    recorder = sub("operators.recorder")
+    _fast_camera(sub, monkeypatch, clip_file["frames"], fps=30.0)
+
+    def unreadable(path):
+        raise recorder.VoodooError(f"Cannot open {path} as a video (unknown format or codec).")
+
+    monkeypatch.setattr(recorder, "CaptureSource", unreadable)
+    bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "camera_unreadable.blend"))
     s = ctx.scene.voodoo
     s.source, s.camera_seconds = "CAMERA", 0.3
     s.target = make.flat_target(keyed=False)
-    rec = sub("operators.recorder").Recorder(ctx, live=False, both_ways=True)
+    rec = recorder.Recorder(ctx, live=False, both_ways=True)
     while rec.step(wait=True):
         pass
     tracked = [results["Doll"].iterations for *_, results in rec.rows]
     info = rec.finish()
     assert info["frames"] == len(tracked) > 0 and info["applied"]
-    assert any("Both Ways needs a movie clip" in n for n in info["notes"])
+    assert any("kept as tracked forward" in n for n in info["notes"]), info["notes"]
     take = sub("operators.storage").stored_take(s.blob, info["take"]).take
     assert take.iterations.tolist() == tracked
 

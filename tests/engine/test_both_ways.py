@@ -13,6 +13,7 @@ from voodoo_addon.errors import VoodooError
 from voodoo_addon.media.sources import ArraySource
 from voodoo_addon.takes.both_ways import (
     FADE,
+    backward_frames,
     backward_share,
     found_again,
     frames_backward,
@@ -153,6 +154,40 @@ def test_the_backward_pass_starts_on_the_last_frame_the_doll_was_surely_found():
     np.testing.assert_array_equal(both.frame_indices, np.arange(18))
     np.testing.assert_array_equal(both.iterations[-4:], forward["doll"].iterations[-4:])
     assert np.abs(both.vertices[:14] - forward["doll"].vertices[:14]).max() < 0.5
+
+
+def test_a_take_that_skips_frames_is_tracked_backwards_on_every_frame_between():
+    """A camera's take keeps one frame per scene frame (here every other one, and two
+    skipped together once), while its footage holds every frame: the backward pass tracks
+    every frame between the take's first and last, and returns the take's own rows."""
+    frames, contour, _ = scenario_take("translate", 16, (320, 240), blob_pixels=5000)
+    troupe = Troupe({"doll": build_blob(frames[0], contour)})
+    every = track_dolls(troupe, ArraySource(frames))["doll"]
+    rows = np.array([0, 2, 4, 6, 9, 11, 13, 15])
+    kept = Take(**{
+        **every.__dict__,
+        **{k: getattr(every, k)[rows] for k in ("vertices", "params", "confidence", "lost",
+                                                "frame_indices", "times", "iterations",
+                                                "visible")},
+    })  # fmt: skip
+    forward = {"doll": kept}
+    assert backward_frames(forward) == 16
+    done = []
+    back = track_backward(troupe, ArraySource(frames), forward, done.append)["doll"]
+    assert done[-1] == 16  # every frame between was tracked...
+    np.testing.assert_array_equal(back.frame_indices, rows)  # ...the take's rows returned
+    np.testing.assert_array_equal(back.times, kept.times)
+    assert not back.lost.any()
+    assert np.abs(back.vertices - kept.vertices).max() < 0.5
+    both = track_both_ways(troupe, ArraySource(frames), forward)["doll"]
+    np.testing.assert_array_equal(both.frame_indices, rows)
+
+    shuffled = Take(**{**kept.__dict__, "frame_indices": rows[[0, 2, 1, 3, 4, 5, 6, 7]]})
+    with pytest.raises(VoodooError, match="not in order"):
+        track_backward(troupe, ArraySource(frames), {"doll": shuffled})
+    beyond = Take(**{**kept.__dict__, "frame_indices": rows + 10})
+    with pytest.raises(VoodooError, match="could not be read again"):
+        track_backward(troupe, ArraySource(frames), {"doll": beyond})
 
 
 def test_a_take_never_surely_found_is_not_tracked_backwards():

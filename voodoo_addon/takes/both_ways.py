@@ -96,33 +96,51 @@ def track_backward(
     returned are the forward ones (with no iterations: no work was done there). They are in
     forward order, row for row with ``forward``.
 
-    Raises VoodooError when no frame is that sure (nothing to start from).
+    Every frame of the source between the take's first frame and that one is tracked, also
+    those the take skips: a camera's take keeps one frame per scene frame, while its footage
+    holds every frame the camera gave (:func:`backward_frames` of them, for a progress bar).
+
+    Raises VoodooError when no frame is that sure (nothing to start from), or when the
+    take's frames are not frames of ``source`` in order.
     """
-    indices = next(iter(forward.values())).frame_indices
+    indices = np.asarray(next(iter(forward.values())).frame_indices)
     start = start_row(forward)
     if start is None:
         raise VoodooError(
             f"No frame of the take has every doll found at a confidence of {SURE} or more: "
             "there is nothing to track it backwards from."
         )
+    kept = indices[: start + 1]
+    if np.any(np.diff(kept) <= 0):
+        raise VoodooError("The take's frames are not in order: it cannot be tracked backwards.")
     troupe.reset()
     for name, take in forward.items():
         troupe.trackers[name].reset(take.params[start])
-    first_index, last_index = int(indices[0]), int(indices[start])
+    first_index, last_index = int(kept[0]), int(kept[-1])
     back = track_dolls(troupe, _Backwards(source, first_index, last_index), progress)
     out = {}
     for name, take in forward.items():
         got = _rows(back[name], slice(None, None, -1))  # forward order
-        if not np.array_equal(got.frame_indices, indices[: start + 1]):
+        if not np.array_equal(got.frame_indices, np.arange(first_index, last_index + 1)):
             raise VoodooError(
-                "The take was not tracked from consecutive frames of this source: it cannot "
-                "be tracked backwards from it."
+                "The source did not give the take's frames again: it cannot be tracked "
+                "backwards from it."
             )
+        got = _rows(got, kept - first_index)  # the take's own frames
         got = replace(got, times=take.times[: start + 1])
         after = _rows(take, slice(start + 1, None))  # as tracked forward, no work of its own
         after = replace(after, iterations=np.zeros_like(after.iterations))
         out[name] = got.extended(after) if len(after) else got
     return out
+
+
+def backward_frames(forward: dict[str, Take]) -> int:
+    """How many frames :func:`track_backward` reads for ``forward`` (0: it cannot start)."""
+    start = start_row(forward)
+    if start is None:
+        return 0
+    indices = next(iter(forward.values())).frame_indices
+    return max(int(indices[start]) - int(indices[0]) + 1, 0)
 
 
 class _Backwards:
@@ -146,8 +164,8 @@ def start_row(forward: dict[str, Take]) -> int | None:
     return int(rows[-1]) if len(rows) else None
 
 
-def _rows(take: Take, rows: slice) -> Take:
-    """The take's rows ``rows``."""
+def _rows(take: Take, rows: slice | np.ndarray) -> Take:
+    """The take's rows ``rows`` (a slice or row numbers)."""
     per_row = ("vertices", "params", "confidence", "lost", "frame_indices", "times")
     per_row += ("iterations", "visible")
     return replace(take, **{k: getattr(take, k)[rows] for k in per_row})
