@@ -1,8 +1,13 @@
 """Drawing over the Movie Clip Editor: the outline, the blob mesh and the tracked mesh.
 
 A ``POST_PIXEL`` draw handler maps engine pixels to the region with the region's View2D
-(:func:`.pixels.pixels_to_region`), so the overlay follows pan and zoom.
+(:func:`.pixels.pixels_to_region`), so the overlay follows pan and zoom. While a take is
+recorded it shows the live tracked meshes; after, on a frame of the last take, that take's
+meshes (scrubbing shows what was tracked, the part out of view faint, a lost frame red);
+elsewhere the blob's rest mesh.
 """
+
+import zlib
 
 import bpy
 import gpu
@@ -10,8 +15,10 @@ import numpy as np
 from gpu_extras.batch import batch_for_shader
 
 from ..voodoo_addon.blob.mesh import mesh_edges
+from ..voodoo_addon.errors import VoodooError
+from .dolls import doll_settings
 from .pixels import pixels_to_region
-from .storage import is_blob, stored_blob
+from .storage import TAKES_KEY, StoredTake, is_blob, stored_blob, stored_take
 
 OUTLINE_COLOUR = (1.0, 0.45, 0.1, 1.0)
 MESH_COLOUR = (1.0, 0.85, 0.2, 0.8)
@@ -19,12 +26,17 @@ TRACK_COLOUR = (0.2, 1.0, 0.4, 0.9)
 #: The part of a tracked doll out of view (folded under, turned away, covered): faint.
 HIDDEN_COLOUR = (0.2, 1.0, 0.4, 0.3)
 LOST_COLOUR = (1.0, 0.2, 0.2, 0.9)
+#: Width of the overlay's lines, pixels.
+LINE_WIDTH = 1.5
 
 #: What the recorder shows live: {"meshes": [(nodes (m, 2), triangles (t, 3), lost,
 #: visible (t,) bool or None), one per doll], ...}; or one doll's "nodes", "triangles",
 #: "lost".
 live_state: dict = {}
 _handle = None
+#: The takes the overlay reads, parsed once: (blob mesh's session uid, take name) ->
+#: (checksum of the stored bytes, StoredTake).
+_takes: dict = {}
 
 
 def _draw_lines(coords, colour, shader):
@@ -55,8 +67,53 @@ def live_meshes(state: dict) -> list:
     return out
 
 
+def take_meshes(scene) -> list:
+    """The lines of the last take on the scene's frame, as :func:`live_meshes` gives them.
+
+    Every doll whose blob keeps a take of the scene's last take's name with a row on the
+    current frame; empty when none has (no take, or a frame outside it).
+    """
+    s = scene.voodoo
+    if not s.last_take:
+        return []
+    meshes = []
+    for _, doll in doll_settings(s):
+        stored = _stored(doll.blob, s.last_take)
+        if stored is None:
+            continue
+        rows = np.flatnonzero(stored.frames == scene.frame_current)
+        if not len(rows):
+            continue
+        take, row = stored.take, int(rows[-1])
+        meshes.append((take.vertices[row], take.triangles, bool(take.lost[row]), take.visible[row]))
+    return live_meshes({"meshes": meshes}) if meshes else []
+
+
+def _stored(mesh, name: str) -> StoredTake | None:
+    """The take ``name`` kept with a blob mesh, or None; parsed again only when it changed."""
+    if not is_blob(mesh) or name not in mesh.get(TAKES_KEY, {}):
+        return None
+    record = mesh[TAKES_KEY][name]
+    data = record if isinstance(record, (bytes, str)) else record.get("take")
+    if data is None:
+        return None
+    data = data.encode("latin-1") if isinstance(data, str) else bytes(data)
+    key, check = (mesh.session_uid, name), zlib.crc32(data)
+    kept = _takes.get(key)
+    if kept is not None and kept[0] == check:
+        return kept[1]
+    try:
+        stored = stored_take(mesh, name)
+    except VoodooError:
+        return None
+    if len(_takes) > 16:
+        _takes.clear()
+    _takes[key] = (check, stored)
+    return stored
+
+
 def draw_overlay():
-    """The draw handler: outline, rest mesh (when not recording) and live tracked meshes."""
+    """The draw handler: the outline, then the live meshes, the last take's or the rest mesh."""
     context = bpy.context
     space = context.space_data
     scene = context.scene
@@ -65,10 +122,12 @@ def draw_overlay():
         return
     height = space.clip.size[1]
     v2r = context.region.view2d.view_to_region
-    shader = gpu.shader.from_builtin("UNIFORM_COLOR")
+    # Wide lines need the polyline shader (drawing them with UNIFORM_COLOR is deprecated).
+    shader = gpu.shader.from_builtin("POLYLINE_UNIFORM_COLOR")
     shader.bind()
+    shader.uniform_float("viewportSize", gpu.state.viewport_get()[2:])
+    shader.uniform_float("lineWidth", LINE_WIDTH)
     gpu.state.blend_set("ALPHA")
-    gpu.state.line_width_set(1.5)
     if len(settings.contour) >= 2:
         pts = np.array([p.co for p in settings.contour])
         reg = pixels_to_region(pts, height, v2r)
@@ -77,7 +136,12 @@ def draw_overlay():
     lines = []
     if live_state:
         lines = live_meshes(live_state)
-    elif is_blob(settings.blob):
+    else:
+        try:
+            lines = take_meshes(scene)
+        except Exception:  # noqa: BLE001 - drawing must never raise
+            lines = []
+    if not lines and not live_state and is_blob(settings.blob):
         try:
             blob = stored_blob(settings.blob)
             lines = [(blob.vertices, mesh_edges(blob.triangles), MESH_COLOUR)]
@@ -87,7 +151,6 @@ def draw_overlay():
         reg = pixels_to_region(np.asarray(nodes), height, v2r)
         _draw_lines(reg[edges.ravel()], colour, shader)
     gpu.state.blend_set("NONE")
-    gpu.state.line_width_set(1.0)
 
 
 def tag_redraw(context=None) -> None:
@@ -112,3 +175,4 @@ def unregister():
         bpy.types.SpaceClipEditor.draw_handler_remove(_handle, "WINDOW")
         _handle = None
     live_state.clear()
+    _takes.clear()

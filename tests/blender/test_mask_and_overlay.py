@@ -110,3 +110,98 @@ def test_live_overlay_draws_every_doll_and_fades_the_part_out_of_view(ctx, sub):
     # One doll's state, as before several dolls.
     one = drawing.live_meshes({"nodes": nodes, "triangles": tris, "lost": False})
     assert [c for _, _, c in one] == [drawing.TRACK_COLOUR] and len(one[0][1]) == 7
+
+
+def test_after_a_take_the_overlay_shows_the_take_on_the_scene_frame(prepared, sub):
+    """Scrubbing after a take: on a frame of the last take the overlay draws that frame's
+    tracked mesh (a part out of view faint, a lost frame in the lost colour); off the take,
+    nothing of it (the rest mesh is drawn instead). A take stored again under the same name
+    is read again."""
+    from dataclasses import replace
+
+    ctx = prepared
+    drawing, store = sub("operators.drawing"), sub("operators.storage")
+    s = ctx.scene.voodoo
+    assert bpy.ops.voodoo.track_clip() == {"FINISHED"}
+    stored = store.stored_take(s.blob, s.last_take)
+    row = 5
+    ctx.scene.frame_set(int(stored.frames[row]))
+    lines = drawing.take_meshes(ctx.scene)
+    assert [c for _, _, c in lines] == [drawing.TRACK_COLOUR]
+    np.testing.assert_array_equal(lines[0][0], stored.take.vertices[row])
+    ctx.scene.frame_set(int(stored.frames[-1]) + 5)
+    assert drawing.take_meshes(ctx.scene) == []
+
+    # The same take stored again with part of frame 5 out of view and frame 6 lost.
+    take = stored.take
+    visible, lost = take.visible.copy(), take.lost.copy()
+    visible[row, : visible.shape[1] // 2] = False
+    lost[row + 1] = True
+    store.store_take(
+        s.blob, s.last_take, replace(take, visible=visible, lost=lost), stored.frames, None
+    )
+    ctx.scene.frame_set(int(stored.frames[row]))
+    colours = [c for _, _, c in drawing.take_meshes(ctx.scene)]
+    assert colours == [drawing.HIDDEN_COLOUR, drawing.TRACK_COLOUR]
+    ctx.scene.frame_set(int(stored.frames[row + 1]))
+    assert [c for _, _, c in drawing.take_meshes(ctx.scene)] == [drawing.LOST_COLOUR]
+    s.last_take = "No such take"
+    assert drawing.take_meshes(ctx.scene) == []
+
+
+def test_the_draw_handler_draws_the_take_into_an_offscreen_buffer(prepared, sub, monkeypatch):
+    """The handler itself, on Blender's GPU module (llvmpipe here), into an offscreen buffer
+    standing in for the clip editor: after a take it draws the take's mesh on its frames and
+    the rest mesh elsewhere, and raises nothing."""
+    from types import SimpleNamespace
+
+    import gpu
+    from mathutils import Matrix
+
+    ctx = prepared
+    drawing = sub("operators.drawing")
+    assert sub("operators.gpu_warp").ensure_gpu()  # headless: brings Blender's GPU up
+    assert bpy.ops.voodoo.track_clip() == {"FINISHED"}
+    clip = bpy.data.movieclips[0]
+    w, h = clip.size
+    drawn, draw_lines = [], drawing._draw_lines
+
+    def recorded(coords, colour, shader):
+        drawn.append(colour)
+        draw_lines(coords, colour, shader)
+
+    monkeypatch.setattr(drawing, "_draw_lines", recorded)
+    fake = SimpleNamespace(
+        context=SimpleNamespace(
+            space_data=SimpleNamespace(clip=clip),
+            scene=ctx.scene,
+            region=SimpleNamespace(
+                view2d=SimpleNamespace(view_to_region=lambda x, y, clip: (x, y))
+            ),
+        )
+    )
+    monkeypatch.setattr(drawing, "bpy", fake)
+    offscreen = gpu.types.GPUOffScreen(w, h)
+    try:
+        with offscreen.bind(), gpu.matrix.push_pop(), gpu.matrix.push_pop_projection():
+            # A pixel-space projection, as Blender sets for a POST_PIXEL handler.
+            gpu.matrix.load_identity()
+            gpu.matrix.load_projection_matrix(
+                Matrix(((2 / w, 0, 0, -1), (0, 2 / h, 0, -1), (0, 0, 1, 0), (0, 0, 0, 1)))
+            )
+            fb = gpu.state.active_framebuffer_get()
+            fb.clear(color=(0.0, 0.0, 0.0, 0.0))
+            ctx.scene.frame_set(ctx.scene.frame_start + 2)
+            drawing.draw_overlay()
+            pixels = np.array(fb.read_color(0, 0, w, h, 4, 0, "FLOAT").to_list())
+            on_take = list(drawn)
+            drawn.clear()
+            ctx.scene.frame_set(ctx.scene.frame_end + 50)
+            drawing.draw_overlay()
+    finally:
+        offscreen.free()
+    assert drawing.TRACK_COLOUR in on_take and drawing.MESH_COLOUR not in on_take
+    assert drawing.MESH_COLOUR in drawn and drawing.TRACK_COLOUR not in drawn
+    # The lines are really drawn: green-dominant pixels where the take's mesh lies.
+    green = (pixels[..., 1] > 0.5) & (pixels[..., 0] < 0.5)
+    assert green.sum() > 100
