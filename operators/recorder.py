@@ -12,7 +12,7 @@ from contextlib import ExitStack
 import bpy
 
 from ..voodoo_addon.errors import VoodooError
-from ..voodoo_addon.media.images import to_uint8_bgr
+from ..voodoo_addon.media.footage import Footage
 from ..voodoo_addon.media.prefetch import PENDING, Prefetcher
 from ..voodoo_addon.media.sources import CaptureSource, open_source
 from ..voodoo_addon.stream import OscSender
@@ -131,7 +131,7 @@ class Recorder:
             # Last, once nothing can fail: frames are read (and a camera's footage written)
             # on a second thread from here on, every one of them, however far behind the
             # tracker falls.
-            write = self._write_footage if self.writer is not None else None
+            write = self.writer.write if self.writer is not None else None
             self.feed = Prefetcher(self.source, limit=self.max_frames, on_frame=write)
             stack.callback(self.feed.close)
             self._resources = stack.pop_all()
@@ -279,10 +279,6 @@ class Recorder:
         """Read no further frame; the frames read already are still tracked."""
         self.feed.stop_reading()
 
-    def _write_footage(self, frame) -> None:
-        """Every camera frame goes to the footage as it arrives (on the reading thread)."""
-        self.writer.write(to_uint8_bgr(frame.pixels))
-
     @property
     def progress(self) -> float:
         total = self.max_frames or self.source.count
@@ -293,20 +289,17 @@ class Recorder:
     # ------------------------------------------------------------------ footage
 
     def _open_writer(self, stack):
-        import cv2
-
-        folder = footage_dir()
-        folder.mkdir(parents=True, exist_ok=True)
-        self.footage = folder / f"{bpy.path.clean_name(self.take_name)}.avi"
-        w, h = self.source.size
-        self.writer = cv2.VideoWriter(
-            str(self.footage), cv2.VideoWriter_fourcc(*"MJPG"), self.source.fps, (w, h)
+        footage = Footage(
+            footage_dir() / f"{bpy.path.clean_name(self.take_name)}.avi",
+            self.source.fps,
+            self.source.size,
         )
+        self.footage, self.writer = footage.path, footage
         stack.callback(self._release_writer)
 
     def _release_writer(self):
         if self.writer is not None:
-            self.writer.release()
+            self.writer.close()
             self.writer = None
 
     # ------------------------------------------------------------------ end

@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from contextlib import ExitStack
 from pathlib import Path
 
 import numpy as np
@@ -63,11 +64,12 @@ def cmd_blob(args) -> int:
     return 0
 
 
-def _troupe(args, src, name: str | None = None):
+def _troupe(args, src, name: str | None = None, on_first=None):
     """The dolls of ``--contour`` and ``--blob`` (both repeatable), as a Troupe.
 
     Blobs are built on the source's first frame; a file is then rewound. ``name`` renames a
-    single doll.
+    single doll. ``on_first`` is called with that frame (a camera's footage keeps it: the
+    camera's next frame is the first one tracked).
     """
     from .blob.build import build_blob
     from .blob.model import load_blob
@@ -90,6 +92,8 @@ def _troupe(args, src, name: str | None = None):
         frame = src.read()
         if frame is None:
             raise VoodooError(f"{getattr(args, 'video', None) or args.source} gave no frame.")
+        if on_first is not None:
+            on_first(frame)
         blobs += [build_blob(frame.image, o, _blob_options(args)) for o in outlines.values()]
         if not src.live:
             src.seek(0)
@@ -141,20 +145,34 @@ def cmd_track(args) -> int:
 
 def cmd_live(args) -> int:
     from .live import LiveStats, run_live
+    from .media.footage import Footage
     from .media.sources import open_source
     from .stream import OscSender, osc_name
     from .takes.dolls import save_takes
 
     if args.frames is not None:
         whole(args.frames, "the number of frames (--frames)", 1)
+    if args.both_ways and not args.out:
+        raise VoodooError("--both-ways needs --out: the take tracked both ways is written there.")
     sender = None
     if args.osc:
         try:
             sender = OscSender(args.osc, bundle=not args.messages)
         except VoodooError as exc:  # tracking goes on without the stream
             print(f"warning: {exc} Tracking without streaming.", file=sys.stderr)
-    with open_source(args.source) as src:
-        troupe = _troupe(args, src, args.name)
+    with open_source(args.source) as src, ExitStack() as stack:
+        if args.both_ways and src.live and not args.footage:
+            raise VoodooError(
+                "--both-ways with a camera needs --footage FILE.avi: a camera's frames cannot "
+                "be read again otherwise."
+            )
+        footage = None
+        if args.footage:
+            footage = stack.enter_context(Footage(args.footage, src.fps, src.size))
+        # A camera's frame the blob is built on is in the footage too: footage frame N is
+        # the source's frame N, as the take's frame indices count them.
+        first = footage.write if footage is not None and src.live else None
+        troupe = _troupe(args, src, args.name, first)
         where = ""
         if sender:
             dolls = ", ".join(f"/voodoo/{osc_name(n)}" for n in troupe.names)
@@ -168,10 +186,11 @@ def cmd_live(args) -> int:
 
         interrupted = False
         try:
-            run_live(src, troupe, sender, not args.fast, args.frames, stats, status)
+            write = footage.write if footage is not None else None
+            run_live(src, troupe, sender, not args.fast, args.frames, stats, status, write)
         except KeyboardInterrupt:
             interrupted = True
-        fps = src.fps
+        fps, live_source = src.fps, src.live
     if sender is not None:
         for warning in sender.warnings:
             print(f"warning: {warning}", file=sys.stderr)
@@ -180,10 +199,35 @@ def cmd_live(args) -> int:
         raise VoodooError("No frame was tracked.")
     msg = f"live: {stats.line()}" + (" (stopped)" if interrupted else "")
     if args.out:
-        save_takes(args.out, stats.takes(troupe, fps))
+        takes = stats.takes(troupe, fps)
+        if args.both_ways:
+            again = args.footage if live_source else args.source
+            takes = _live_both_ways(troupe, again, takes, args.quiet)
+        save_takes(args.out, takes)
         msg += f" -> {args.out}"
     print(msg)
     return 0
+
+
+def _live_both_ways(troupe, again, takes: dict, quiet: bool) -> dict:
+    """``voodoo live --both-ways``: the live takes merged with a backward pass.
+
+    ``again`` is what is read backwards: the file tracked, or the camera's footage. A
+    failure, or Ctrl-C, keeps the takes as tracked live, with a warning.
+    """
+    from .media.sources import open_source
+    from .takes.both_ways import backward_frames, track_both_ways
+    from .takes.take import ProgressBar
+
+    bar = None if quiet else ProgressBar(backward_frames(takes), "backwards")
+    try:
+        with open_source(again) as src:
+            return track_both_ways(troupe, src, takes, bar)
+    except VoodooError as exc:
+        print(f"warning: {exc} The take is kept as tracked live.", file=sys.stderr)
+    except KeyboardInterrupt:
+        print("warning: stopped backwards; the take is kept as tracked live.", file=sys.stderr)
+    return takes
 
 
 def cmd_check(args) -> int:
@@ -338,6 +382,15 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--fast", action="store_true", help="a file as fast as possible")
     v.add_argument("--frames", type=int, help="stop after this many frames")
     v.add_argument("--out", help="also write the take file (.npz)")
+    v.add_argument(
+        "--footage", metavar="FILE.avi", help="also write every frame read to this video file"
+    )
+    v.add_argument(
+        "--both-ways",
+        action="store_true",
+        help="when tracking ends, track the take again backwards (from the file, or a camera's "
+        "--footage) and write to --out, frame by frame, the surer pass",
+    )
     v.add_argument("--quiet", action="store_true", help="no status line every second")
     _add_blob_args(v)
     v.set_defaults(func=cmd_live)

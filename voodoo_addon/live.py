@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .media.prefetch import Prefetcher
-from .media.sources import FrameSource
+from .media.sources import Frame, FrameSource
 from .stream import OscSender, view_share
 from .takes.rig import unit
 from .takes.take import Take
@@ -99,6 +99,7 @@ def run_live(
     limit: int | None = None,
     stats: LiveStats | None = None,
     every_second: Callable[[LiveStats], None] | None = None,
+    on_frame: Callable[[Frame], None] | None = None,
 ) -> LiveStats:
     """Track ``source`` frame by frame, streaming each doll's result.
 
@@ -119,10 +120,13 @@ def run_live(
         was tracked); a new one by default.
     every_second : callable, optional
         Called with the stats about once a second.
+    on_frame : callable, optional
+        Called with every frame as it is read, on the reading thread (a camera's footage
+        written as it comes, :class:`~.media.footage.Footage`).
     """
     stats = stats if stats is not None else LiveStats()
     pace = paced and not source.live
-    with Prefetcher(source, limit=limit) as feed:
+    with Prefetcher(source, limit=limit, on_frame=on_frame) as feed:
         start = last_report = None
         while (frame := feed.read()) is not None:
             now = time.monotonic()
