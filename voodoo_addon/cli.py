@@ -8,7 +8,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from contextlib import ExitStack
+from contextlib import ExitStack, nullcontext
 from pathlib import Path
 
 import numpy as np
@@ -105,7 +105,6 @@ def _troupe(args, src, name: str | None = None, on_first=None):
 def cmd_track(args) -> int:
     from .media.prefetch import Prefetcher
     from .media.sources import open_source
-    from .takes.both_ways import backward_frames, track_both_ways
     from .takes.dolls import save_takes, track_dolls
     from .takes.take import ProgressBar, missing_frames
 
@@ -124,12 +123,8 @@ def cmd_track(args) -> int:
             takes = track_dolls(troupe, ahead, progress=bar, limit=args.frames)
         short = missing_frames(src, next(iter(takes.values())), args.frames, name=str(args.video))
         if args.both_ways:
-            n = backward_frames(takes)
-            back = ProgressBar(n, "backwards") if long_clip and not args.quiet else None
-            try:
-                takes = track_both_ways(troupe, src, takes, back)
-            except VoodooError as exc:
-                print(f"warning: {exc} The take is kept as tracked forward.", file=sys.stderr)
+            show = long_clip and not args.quiet
+            takes = _both_ways(troupe, takes, lambda: nullcontext(src), show, "forward")
     save_takes(args.out, takes)
     if short:
         print(f"warning: {short}", file=sys.stderr)
@@ -202,31 +197,31 @@ def cmd_live(args) -> int:
         takes = stats.takes(troupe, fps)
         if args.both_ways:
             again = args.footage if live_source else args.source
-            takes = _live_both_ways(troupe, again, takes, args.quiet)
+            takes = _both_ways(troupe, takes, lambda: open_source(again), not args.quiet, "live")
         save_takes(args.out, takes)
         msg += f" -> {args.out}"
     print(msg)
     return 0
 
 
-def _live_both_ways(troupe, again, takes: dict, quiet: bool) -> dict:
-    """``voodoo live --both-ways``: the live takes merged with a backward pass.
+def _both_ways(troupe, takes: dict, reread, show: bool, kept: str) -> dict:
+    """``--both-ways``: the takes merged with a backward pass (:mod:`.takes.both_ways`).
 
-    ``again`` is what is read backwards: the file tracked, or the camera's footage. A
-    failure, or Ctrl-C, keeps the takes as tracked live, with a warning.
+    ``reread()`` opens what is read backwards (the file tracked, or a camera's footage), as
+    a context manager; ``show`` a progress bar. A failure, or Ctrl-C, keeps the takes as
+    they were tracked (``kept``: "forward", "live"), with a warning.
     """
-    from .media.sources import open_source
     from .takes.both_ways import backward_frames, track_both_ways
     from .takes.take import ProgressBar
 
-    bar = None if quiet else ProgressBar(backward_frames(takes), "backwards")
+    bar = ProgressBar(backward_frames(takes), "backwards") if show else None
     try:
-        with open_source(again) as src:
+        with reread() as src:
             return track_both_ways(troupe, src, takes, bar)
     except VoodooError as exc:
-        print(f"warning: {exc} The take is kept as tracked live.", file=sys.stderr)
+        print(f"warning: {exc} The take is kept as tracked {kept}.", file=sys.stderr)
     except KeyboardInterrupt:
-        print("warning: stopped backwards; the take is kept as tracked live.", file=sys.stderr)
+        print(f"warning: stopped backwards; the take is kept as tracked {kept}.", file=sys.stderr)
     return takes
 
 
