@@ -192,6 +192,29 @@ tune it on and made only when named, apart from every other clip, into
     degrees about a crease along (a little off) its diagonal, fast, and unfolds slowly while
     the cloth turns 8 degrees and drifts.
 
+A sixth batch of held-out clips of folds (``hardclips/heldout_folds6.py``, paint there too),
+made after the fifth for issue 22's check that the tracker generalises, likewise never to
+tune it on and made only when named, apart from every other clip, into
+``samples/heldout_folds6``::
+
+    OMP_NUM_THREADS=1 .venv/bin/python scripts/render_hard_clips.py --out samples/heldout_folds6 \
+        --only peas_bag_squeeze minky_tail_swing city_map_foldup
+
+``peas_bag_squeeze``
+    Two hands, in from above and from the left, squeeze a glossy bag of frozen peas lying
+    above the middle: its upper part folds back behind the rest in half along a crease
+    falling 25 degrees to the right, fast (0.34 s), while it is pushed down; it holds,
+    unfolds slowly, and the hands leave.
+``minky_tail_swing``
+    A furry, low-contrast dusty pink minky plush patch with raised dots, held by a hand at its
+    upper right corner, is lifted towards the camera about an axis falling 40 degrees to the
+    right: the patch 25 degrees and its upper right part on to 110 degrees, past edge-on,
+    slowly, and back fast, while it drifts up.
+``city_map_foldup``
+    The bottom part of a printed city street map folds up over the rest by 180 degrees,
+    towards the camera, about a crease falling 5 degrees to the right, in two steps, and
+    unfolds while the map comes nearer the camera, drifts and turns 6 degrees.
+
 Everything is seeded: the same command makes the same scenes, truth and outlines (Cycles runs
 seeded on one thread, so the renders should repeat too). The seven tuned clips, which a run
 without ``--only`` renders, take about 50 minutes; the held-out, several-doll and fold clips are
