@@ -3,11 +3,20 @@ frame by frame (takes.both_ways)."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
 from voodoo_addon.blob.build import build_blob
-from voodoo_addon.devtools.folds import HELDOUT_FOLDS2, HELDOUT_FOLDS3, fold_clips, run_fold_clip
+from voodoo_addon.devtools.camera import CAMERAS
+from voodoo_addon.devtools.folds import (
+    HELDOUT_FOLDS2,
+    HELDOUT_FOLDS3,
+    HELDOUT_FOLDS6,
+    fold_clips,
+    run_fold_clip,
+)
 from voodoo_addon.devtools.scenarios import scenario_take
 from voodoo_addon.errors import VoodooError
 from voodoo_addon.media.sources import ArraySource
@@ -18,7 +27,7 @@ from voodoo_addon.takes.both_ways import (
     found_again,
     frames_backward,
     merge,
-    start_row,
+    sure_rows,
     track_backward,
     track_both_ways,
 )
@@ -137,23 +146,44 @@ def test_a_camera_cannot_be_read_backwards():
         next(frames_backward(source, 0, 2))
 
 
-def test_the_backward_pass_starts_on_the_last_frame_the_doll_was_surely_found():
+def test_a_take_that_ends_with_the_doll_gone_is_searched_backwards_from_its_end():
     """A take that ends with the doll gone (grey frames, lost forward): the backward pass
-    starts on the last frame found surely; the frames after it keep the forward pass (lost,
-    the pose held), the frames before are found both ways."""
+    starts on the last frame searching around the last pose found surely; the doll stays
+    lost on the grey frames, is found on the first frame it is back, and is found both ways
+    before."""
     frames, contour, _ = scenario_take("translate", 14, (320, 240), blob_pixels=5000)
     grey = np.full_like(frames[0], 0.5)
     frames = list(frames) + [grey] * 4
     troupe = Troupe({"doll": build_blob(frames[0], contour)})
     forward = track_dolls(troupe, ArraySource(frames))
     assert forward["doll"].lost[-4:].all() and not forward["doll"].lost[:14].any()
-    assert start_row(forward) == 13
+    assert sure_rows(forward) == {"doll": 13}
+    assert backward_frames(forward) == 18
+    back = track_backward(troupe, ArraySource(frames), forward)["doll"]
+    assert back.lost[-4:].all() and not back.lost[:14].any()
     both = track_both_ways(troupe, ArraySource(frames), forward)["doll"]
     assert not both.lost[:14].any() and both.lost[-4:].all()
-    np.testing.assert_allclose(both.params[-4:], forward["doll"].params[-4:], atol=1e-9)
     np.testing.assert_array_equal(both.frame_indices, np.arange(18))
-    np.testing.assert_array_equal(both.iterations[-4:], forward["doll"].iterations[-4:])
     assert np.abs(both.vertices[:14] - forward["doll"].vertices[:14]).max() < 0.5
+
+
+def test_a_doll_left_at_a_doubtful_pose_is_searched_for_from_the_end():
+    """A take whose last frames are followed at a doubtful pose (forward confidence under
+    :data:`SURE`, here a pose put 12 px off by hand): the backward pass does not start from
+    that pose but searches around the last sure one, finds the doll where it is, and the
+    merge keeps the backward pass there."""
+    frames, contour, _ = scenario_take("translate", 16, (320, 240), blob_pixels=5000)
+    troupe = Troupe({"doll": build_blob(frames[0], contour)})
+    forward = track_dolls(troupe, ArraySource(frames))["doll"]
+    params, verts, conf = forward.params.copy(), forward.vertices.copy(), forward.confidence.copy()
+    params[-4:, 0] += 12.0  # the last four frames 12 px off to the right...
+    verts[-4:, :, 0] += 12.0
+    conf[-4:] = 0.4  # ...at a doubtful confidence
+    doubtful = replace(forward, params=params, vertices=verts, confidence=conf)
+    assert sure_rows({"doll": doubtful}) == {"doll": 11}
+    both = track_both_ways(troupe, ArraySource(frames), {"doll": doubtful})["doll"]
+    assert not both.lost.any()
+    assert np.abs(both.vertices[-2:] - forward.vertices[-2:]).max() < 0.5  # found again
 
 
 def test_a_take_that_skips_frames_is_tracked_backwards_on_every_frame_between():
@@ -192,9 +222,10 @@ def test_a_take_that_skips_frames_is_tracked_backwards_on_every_frame_between():
 
 def test_a_take_never_surely_found_is_not_tracked_backwards():
     lost = np.ones(T, bool)
-    with pytest.raises(VoodooError, match="nothing to track it backwards from"):
+    with pytest.raises(VoodooError, match="never has 'doll' found"):
         track_backward(None, None, {"doll": _take(np.zeros(T), 0.9, lost)})
-    assert start_row({"doll": _take(np.zeros(T), 0.4)}) is None
+    assert sure_rows({"doll": _take(np.zeros(T), 0.4)}) == {"doll": None}
+    assert backward_frames({"doll": _take(np.zeros(T), 0.4)}) == 0
 
 
 #: The held-out renders the forward pass alone falls short on (BENCHMARKS.md): frames of
@@ -221,3 +252,35 @@ def test_both_ways_a_recorded_fold_keeps_the_doll_where_the_forward_pass_falls_s
     # The crossfade makes no jump of its own: the largest is the forward pass's at most
     # (equal with NumPy 2.3, where the largest jump is on a frame the forward pass keeps).
     assert both["mode_jump_px"] <= ours["mode_jump_px"], brief
+
+
+def _minky():
+    return next(c for c in fold_clips(HELDOUT_FOLDS6) if c.name == "minky_tail_swing")
+
+
+@pytest.mark.slow
+def test_both_ways_a_plush_the_forward_pass_loses_past_edge_on_is_followed():
+    """The sixth held-out batch's plush, lifted by its corner past edge-on: the forward
+    pass takes a wrong place and loses frames while most of it is seen (its xfail in
+    test_folds); tracked both ways, no frame is lost and the nodes are nearer than KLT's
+    and DIS's."""
+    rows = {r["tracker"]: r for r in run_fold_clip(_minky(), ("ours", "both", "klt", "dis"))}
+    both, ours = rows["both"], rows["ours"]
+    brief = {k: v for k, v in both.items() if not isinstance(v, list)}
+    assert ours["lost_in_third"] > 0  # the forward pass alone falls short here
+    assert both["folded_fraction"] == 0.0 and both["lost_in_third"] == 0, brief
+    assert both["error_px"] < min(rows["klt"]["error_px"], rows["dis"]["error_px"]), brief
+
+
+@pytest.mark.slow
+def test_both_ways_a_take_that_ends_at_a_wrong_pose_is_found_again_from_its_end():
+    """The same plush redrawn (seed 0): the forward pass ends 12 px off at a confidence of
+    0.46, never back. The backward pass does not start from that pose: it searches for the
+    doll on the last frame, finds it, and follows it back through the turn."""
+    camera = replace(CAMERAS["redraw"], seed=0)
+    rows = {r["tracker"]: r for r in run_fold_clip(_minky(), ("ours", "both"), camera=camera)}
+    both, ours = rows["both"], rows["ours"]
+    brief = {k: v for k, v in both.items() if not isinstance(v, list)}
+    assert ours["recovery_frames"] is None  # forward: never back under a pixel
+    assert both["lost_in_third"] == 0 and both["recovery_frames"] is not None, brief
+    assert both["error_px"] < 0.5 * ours["error_px"], brief

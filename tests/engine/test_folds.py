@@ -15,6 +15,7 @@ from voodoo_addon.devtools.folds import (
     HELDOUT_FOLDS3,
     HELDOUT_FOLDS4,
     HELDOUT_FOLDS5,
+    HELDOUT_FOLDS6,
     RETURNED,
     fold_clips,
     nearest_modal,
@@ -147,6 +148,8 @@ HELD_OUT_2 = fold_clips(HELDOUT_FOLDS2)
 HELD_OUT_3 = fold_clips(HELDOUT_FOLDS3)
 HELD_OUT_4 = fold_clips(HELDOUT_FOLDS4)
 HELD_OUT_5 = fold_clips(HELDOUT_FOLDS5)
+HELD_OUT_6 = fold_clips(HELDOUT_FOLDS6)
+ALL_FOLDS = FOLDS + HELD_OUT + HELD_OUT_2 + HELD_OUT_3 + HELD_OUT_4 + HELD_OUT_5 + HELD_OUT_6
 #: Held-out clips the tracker does not pass yet (BENCHMARKS.md, *A third held-out batch*).
 FAILING = {
     # A furry patch turned 50 deg about a tilted axis, its far part past edge-on: the
@@ -154,6 +157,11 @@ FAILING = {
     # the doll is lost for 4 frames while all of it is seen (AMD EPYC, NumPy 1.26; 3.78 px
     # against DIS's 6.12). With NumPy 2.3 the same clip passes: not strict.
     "toy_tail_lift": "the turn about a tilted axis is not followed (BENCHMARKS.md)",
+    # The sixth held-out batch, first run: a low-contrast plush lifted by its corner past
+    # edge-on; on frame 35 every fit runs 15-17 px off and one is taken (9.31 px against
+    # DIS's 7.81, 17 frames lost while a third is seen; AMD EPYC, NumPy 1.26). Tracked
+    # both ways it passes (test_both_ways).
+    "minky_tail_swing": "a wrong place taken as the tail passes edge-on (BENCHMARKS.md)",
 }
 #: Where a clip fell short of the issue's bounds on some machine (BENCHMARKS.md, *Folds and
 #: turns*): the last bits of the arithmetic differ between CPUs and NumPy lines, and on the
@@ -178,7 +186,7 @@ SHORT = {
         pytest.param(clip, marks=pytest.mark.xfail(reason=FAILING[clip.name]))
         if clip.name in FAILING
         else clip
-        for clip in FOLDS + HELD_OUT + HELD_OUT_2 + HELD_OUT_3 + HELD_OUT_4 + HELD_OUT_5
+        for clip in ALL_FOLDS
     ],
     ids=lambda clip: clip.name,
 )

@@ -49,10 +49,11 @@ AGAIN_FRAMES = 10
 AGAIN_DOUBT = 0.5
 #: Frames read at a time when reading a file backwards (each chunk from one seek).
 CHUNK = 32
-#: The backward pass starts on the last frame where every doll was found at least this
-#: surely: a take often ends with the doll put down or out of the picture, and a pass
-#: started from a held or doubtful pose would have to find the doll first. The frames
-#: after it keep the forward pass.
+#: The backward pass starts from a doll's pose on the take's last frame only when it was
+#: found there at least this surely. A take often ends with the doll put down or out of
+#: the picture, or followed at a wrong pose after a turn (a low-contrast plush left 12 px
+#: off at 0.46 to the end): such a doll is searched for first, around its last pose found
+#: this surely, as a lost doll is.
 SURE = 0.5
 
 
@@ -91,32 +92,34 @@ def track_backward(
 ) -> dict[str, Take]:
     """Every doll tracked from the end of its forward take back to its start.
 
-    The pass starts on the last frame every doll was found on at least :data:`SURE` surely
-    (:func:`start_row`), each doll from its pose there; on the frames after it the takes
-    returned are the forward ones (with no iterations: no work was done there). They are in
-    forward order, row for row with ``forward``.
+    The pass starts on the take's last frame. A doll found there at least :data:`SURE`
+    surely starts from its pose there; any other doll (put down, out of the picture, or
+    followed at a doubtful pose) is searched for first, as a lost one, around its last
+    pose found that surely (:func:`sure_rows`), and is lost backwards until a frame finds
+    it. The takes returned are in forward order, row for row with ``forward``.
 
-    Every frame of the source between the take's first frame and that one is tracked, also
+    Every frame of the source between the take's first frame and its last is tracked, also
     those the take skips: a camera's take keeps one frame per scene frame, while its footage
     holds every frame the camera gave (:func:`backward_frames` of them, for a progress bar).
 
-    Raises VoodooError when no frame is that sure (nothing to start from), or when the
-    take's frames are not frames of ``source`` in order.
+    Raises VoodooError when a doll is never found that surely (nothing to search around),
+    or when the take's frames are not frames of ``source`` in order.
     """
     indices = np.asarray(next(iter(forward.values())).frame_indices)
-    start = start_row(forward)
-    if start is None:
+    sure = sure_rows(forward)
+    never = [name for name, row in sure.items() if row is None]
+    if never:
         raise VoodooError(
-            f"No frame of the take has every doll found at a confidence of {SURE} or more: "
+            f"The take never has {never[0]!r} found at a confidence of {SURE} or more: "
             "there is nothing to track it backwards from."
         )
-    kept = indices[: start + 1]
-    if np.any(np.diff(kept) <= 0):
+    if np.any(np.diff(indices) <= 0):
         raise VoodooError("The take's frames are not in order: it cannot be tracked backwards.")
+    last = len(indices) - 1
     troupe.reset()
     for name, take in forward.items():
-        troupe.trackers[name].reset(take.params[start])
-    first_index, last_index = int(kept[0]), int(kept[-1])
+        troupe.trackers[name].reset(take.params[sure[name]], search=sure[name] < last)
+    first_index, last_index = int(indices[0]), int(indices[-1])
     back = track_dolls(troupe, _Backwards(source, first_index, last_index), progress)
     out = {}
     for name, take in forward.items():
@@ -126,21 +129,17 @@ def track_backward(
                 "The source did not give the take's frames again: it cannot be tracked "
                 "backwards from it."
             )
-        got = _rows(got, kept - first_index)  # the take's own frames
-        got = replace(got, times=take.times[: start + 1])
-        after = _rows(take, slice(start + 1, None))  # as tracked forward, no work of its own
-        after = replace(after, iterations=np.zeros_like(after.iterations))
-        out[name] = got.extended(after) if len(after) else got
+        got = _rows(got, indices - first_index)  # the take's own frames
+        out[name] = replace(got, times=take.times)
     return out
 
 
 def backward_frames(forward: dict[str, Take]) -> int:
     """How many frames :func:`track_backward` reads for ``forward`` (0: it cannot start)."""
-    start = start_row(forward)
-    if start is None:
+    if any(row is None for row in sure_rows(forward).values()):
         return 0
     indices = next(iter(forward.values())).frame_indices
-    return max(int(indices[start]) - int(indices[0]) + 1, 0)
+    return max(int(indices[-1]) - int(indices[0]) + 1, 0)
 
 
 class _Backwards:
@@ -157,11 +156,13 @@ class _Backwards:
         return frames_backward(*self._span)
 
 
-def start_row(forward: dict[str, Take]) -> int | None:
-    """The last row where every doll is found at least :data:`SURE` surely, or None."""
-    sure = np.logical_and.reduce([~t.lost & (t.confidence >= SURE) for t in forward.values()])
-    rows = np.flatnonzero(sure)
-    return int(rows[-1]) if len(rows) else None
+def sure_rows(forward: dict[str, Take]) -> dict[str, int | None]:
+    """Each doll's last row found at least :data:`SURE` surely (None: none), by name."""
+    out = {}
+    for name, take in forward.items():
+        rows = np.flatnonzero(~take.lost & (take.confidence >= SURE))
+        out[name] = int(rows[-1]) if len(rows) else None
+    return out
 
 
 def _rows(take: Take, rows: slice | np.ndarray) -> Take:

@@ -156,15 +156,19 @@ class Tracker:
         with single_blas_thread():
             self.fitter.set_frozen(idx)  # precompute the bases now, not on the first frame
 
-    def reset(self, params: np.ndarray | None = None) -> None:
-        """Start over from ``params`` (default: the capture pose)."""
+    def reset(self, params: np.ndarray | None = None, search: bool = False) -> None:
+        """Start over from ``params`` (default: the capture pose).
+
+        ``search``: the doll is to be found first, as one that was lost there: the next
+        frames search for it around ``params`` (and the rest shape) until one finds it.
+        """
         a = self.layout.identity() if params is None else np.asarray(params, dtype=np.float64)
         if a.shape != (self.layout.size,) or not np.isfinite(a).all():
             raise VoodooError("reset() needs a finite parameter vector of the tracker's size.")
         self.state = a.copy()
         self._prev = None
         self.last_good = a.copy()
-        self.lost = False
+        self.lost = bool(search)
         self._last_residual = None
         self._previous = None
         self._futile = np.inf
