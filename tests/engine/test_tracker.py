@@ -241,6 +241,20 @@ def test_garbage_frame_is_lost_without_nan_then_recovered(bad):
     np.testing.assert_allclose(res.nodes, take.blob.vertices, atol=0.1)
 
 
+def test_a_reset_that_searches_finds_the_doll_away_from_the_pose_it_was_given():
+    """``reset(params, search=True)``: the next frame searches for the doll as for a lost
+    one, around ``params``: found where it is (6 px away), and reported found again."""
+    take = scenario("translate")
+    tracker = Tracker(take.blob)
+    off = tracker.layout.identity()
+    off[0] += 6.0
+    tracker.reset(off, search=True)
+    assert tracker.lost
+    res = tracker.track(take.frames[0])
+    assert res.reacquired and not res.lost
+    np.testing.assert_allclose(res.nodes, take.blob.vertices, atol=0.1)
+
+
 # ------------------------------------------------------------------------- frozen parameters
 
 
