@@ -159,8 +159,8 @@ FAILING = {
     "toy_tail_lift": "the turn about a tilted axis is not followed (BENCHMARKS.md)",
     # The sixth held-out batch, first run: a low-contrast plush lifted by its corner past
     # edge-on; on frame 35 every fit runs 15-17 px off and one is taken (9.31 px against
-    # DIS's 7.81, 17 frames lost while a third is seen; AMD EPYC, NumPy 1.26). Tracked
-    # both ways it passes (test_both_ways).
+    # DIS's 7.81, 17 frames lost while a third is seen; AMD EPYC, NumPy 1.26; with NumPy
+    # 2.3, 5.91 px and 11 frames lost). Tracked both ways it passes (test_both_ways).
     "minky_tail_swing": "a wrong place taken as the tail passes edge-on (BENCHMARKS.md)",
 }
 #: Where a clip fell short of the issue's bounds on some machine (BENCHMARKS.md, *Folds and
