@@ -7,18 +7,15 @@ meshes (scrubbing shows what was tracked, the part out of view faint, a lost fra
 elsewhere the blob's rest mesh.
 """
 
-import zlib
-
 import bpy
 import gpu
 import numpy as np
 from gpu_extras.batch import batch_for_shader
 
 from ..voodoo_addon.blob.mesh import mesh_edges
-from ..voodoo_addon.errors import VoodooError
 from .dolls import doll_settings
 from .pixels import pixels_to_region
-from .storage import TAKES_KEY, StoredTake, is_blob, stored_blob, stored_take
+from .storage import is_blob, shown_take, stored_blob
 
 OUTLINE_COLOUR = (1.0, 0.45, 0.1, 1.0)
 MESH_COLOUR = (1.0, 0.85, 0.2, 0.8)
@@ -34,9 +31,6 @@ LINE_WIDTH = 1.5
 #: "lost".
 live_state: dict = {}
 _handle = None
-#: The takes the overlay reads, parsed once: (blob mesh's session uid, take name) ->
-#: (checksum of the stored bytes, StoredTake).
-_takes: dict = {}
 
 
 def _draw_lines(coords, colour, shader):
@@ -78,7 +72,7 @@ def take_meshes(scene) -> list:
         return []
     meshes = []
     for _, doll in doll_settings(s):
-        stored = _stored(doll.blob, s.last_take)
+        stored = shown_take(doll.blob, s.last_take)
         if stored is None:
             continue
         rows = np.flatnonzero(stored.frames == scene.frame_current)
@@ -87,29 +81,6 @@ def take_meshes(scene) -> list:
         take, row = stored.take, int(rows[-1])
         meshes.append((take.vertices[row], take.triangles, bool(take.lost[row]), take.visible[row]))
     return live_meshes({"meshes": meshes}) if meshes else []
-
-
-def _stored(mesh, name: str) -> StoredTake | None:
-    """The take ``name`` kept with a blob mesh, or None; parsed again only when it changed."""
-    if not is_blob(mesh) or name not in mesh.get(TAKES_KEY, {}):
-        return None
-    record = mesh[TAKES_KEY][name]
-    data = record if isinstance(record, (bytes, str)) else record.get("take")
-    if data is None:
-        return None
-    data = data.encode("latin-1") if isinstance(data, str) else bytes(data)
-    key, check = (mesh.session_uid, name), zlib.crc32(data)
-    kept = _takes.get(key)
-    if kept is not None and kept[0] == check:
-        return kept[1]
-    try:
-        stored = stored_take(mesh, name)
-    except VoodooError:
-        return None
-    if len(_takes) > 16:
-        _takes.clear()
-    _takes[key] = (check, stored)
-    return stored
 
 
 def draw_overlay():
@@ -175,4 +146,3 @@ def unregister():
         bpy.types.SpaceClipEditor.draw_handler_remove(_handle, "WINDOW")
         _handle = None
     live_state.clear()
-    _takes.clear()

@@ -88,7 +88,7 @@ class Recorder:
         if resume:
             for doll in self.dolls:
                 doll.resume(resume)
-        self.writer = self.footage = self.clip = None
+        self.footage = self.clip = None  # a camera's Footage, the clip
         with ExitStack() as stack:
             self._open_source(context, s, max_frames, stack)
             for doll in self.dolls:
@@ -131,7 +131,7 @@ class Recorder:
             # Last, once nothing can fail: frames are read (and a camera's footage written)
             # on a second thread from here on, every one of them, however far behind the
             # tracker falls.
-            write = self.writer.write if self.writer is not None else None
+            write = self.footage.write if self.footage is not None else None
             self.feed = Prefetcher(self.source, limit=self.max_frames, on_frame=write)
             stack.callback(self.feed.close)
             self._resources = stack.pop_all()
@@ -289,18 +289,8 @@ class Recorder:
     # ------------------------------------------------------------------ footage
 
     def _open_writer(self, stack):
-        footage = Footage(
-            footage_dir() / f"{bpy.path.clean_name(self.take_name)}.avi",
-            self.source.fps,
-            self.source.size,
-        )
-        self.footage, self.writer = footage.path, footage
-        stack.callback(self._release_writer)
-
-    def _release_writer(self):
-        if self.writer is not None:
-            self.writer.close()
-            self.writer = None
+        path = footage_dir() / f"{bpy.path.clean_name(self.take_name)}.avi"
+        self.footage = stack.enter_context(Footage(path, self.source.fps, self.source.size))
 
     # ------------------------------------------------------------------ end
 
@@ -318,7 +308,7 @@ class Recorder:
         if left and self.footage is not None:
             self.notes.append(
                 f"{left} recorded frame(s) were not tracked (stopped while completing the "
-                f"take); the footage {self.footage.name} holds every frame."
+                f"take); the footage {self.footage.path.name} holds every frame."
             )
         self.close()
         if not self.rows:
@@ -340,7 +330,7 @@ class Recorder:
         there is nothing to read again or it cannot be read: the take is then kept as
         tracked.
         """
-        if self.clip is None and (self.footage is None or not self.footage.exists()):
+        if self.clip is None and (self.footage is None or not self.footage.path.exists()):
             self.notes.append(
                 "Both Ways needs a movie clip or the camera's footage: the take was kept "
                 "as tracked."
@@ -367,7 +357,7 @@ class Recorder:
             if self.clip is not None:
                 reread = open_clip(self.clip)
             else:
-                reread = CaptureSource(str(self.footage))  # a video file, whatever the camera
+                reread = CaptureSource(str(self.footage.path))  # a video file, whatever the camera
             with reread as source:
                 return track_both_ways(troupe, source, forward, progress)
         except VoodooError as exc:
@@ -398,8 +388,8 @@ class Recorder:
             "actions": {},
             "notes": self.notes,
         }
-        if self.footage is not None and self.footage.exists():
-            clip = bpy.data.movieclips.load(str(self.footage))
+        if self.footage is not None and self.footage.path.exists():
+            clip = bpy.data.movieclips.load(str(self.footage.path))
             clip.frame_start = self.rows[0][2]
             info["clip"] = clip
         lost, attention = set(), []

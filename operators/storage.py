@@ -21,6 +21,7 @@ Format version 2 (``FORMAT_VERSION``):
 
 import tempfile
 import uuid
+import zlib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -50,6 +51,9 @@ RECOVERY_DIR = "voodoo_recovery"
 #: Camera footage and camera captures are saved here, beside the .blend.
 FOOTAGE_DIR = "voodoo_footage"
 _cache: dict = {}
+#: The takes the overlay shows, parsed once: (blob mesh's session uid, take name) ->
+#: (checksum of the stored bytes, StoredTake); see :func:`shown_take`.
+_shown: dict = {}
 
 
 # ---------------------------------------------------------------------------- blobs
@@ -162,6 +166,15 @@ def take_names(mesh) -> list:
 
 def stored_take(mesh, name: str) -> StoredTake:
     """A take stored with a blob, in either format version."""
+    data, frames, rest = _take_record(mesh, name)
+    take = take_from_bytes(data, source=f"Take {name!r}")
+    if frames is None or len(frames) != len(take):
+        raise VoodooError(f"Take {name!r} has no frame numbers; record it again.")
+    return StoredTake(name, take, np.asarray(frames, dtype=np.int64), rest)
+
+
+def _take_record(mesh, name: str):
+    """(the take's bytes, its scene frames or None, its rest frame or None), either version."""
     takes = mesh.get(TAKES_KEY) if is_blob(mesh) else None
     if takes is None or name not in takes:
         raise VoodooError(f"There is no take named {name!r}; record one first.")
@@ -173,10 +186,31 @@ def stored_take(mesh, name: str) -> StoredTake:
     if data is None:
         raise VoodooError(f"Take {name!r} is damaged (its data is missing); record it again.")
     data = data.encode("latin-1") if isinstance(data, str) else bytes(data)
-    take = take_from_bytes(data, source=f"Take {name!r}")
-    if frames is None or len(frames) != len(take):
-        raise VoodooError(f"Take {name!r} has no frame numbers; record it again.")
-    return StoredTake(name, take, np.asarray(frames, dtype=np.int64), rest)
+    return data, frames, rest
+
+
+def shown_take(mesh, name: str) -> StoredTake | None:
+    """:func:`stored_take`, or None where there is none (or it cannot be read).
+
+    Parsed again only when the stored bytes changed: the overlay asks for it on every
+    redraw.
+    """
+    try:
+        data = _take_record(mesh, name)[0]
+    except VoodooError:
+        return None
+    key, check = (mesh.session_uid, name), zlib.crc32(data)
+    kept = _shown.get(key)
+    if kept is not None and kept[0] == check:
+        return kept[1]
+    try:
+        stored = stored_take(mesh, name)
+    except VoodooError:
+        return None
+    if len(_shown) > 16:
+        _shown.clear()
+    _shown[key] = (check, stored)
+    return stored
 
 
 def unique_take_name(mesh, base: str) -> str:
