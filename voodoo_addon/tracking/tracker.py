@@ -277,14 +277,16 @@ class Tracker:
                 fit, its = self._search_features(frame, fit, its, again)
         if not was_lost:
             fit, its = self._hidden_part(frame, fit, its)
-        # No fit finds the doll: it may simply not have moved, and the fits ran off from
-        # near it (see ``CoarseToFineFitter.hold``).
+        # No fit finds the doll, or the best one ran far off to fit poorly there: the doll
+        # may simply not have moved, and the fits ran off from near it (see
+        # ``CoarseToFineFitter.hold``).
         held = None
-        if not self._finds(fit):
+        ran_off = not was_lost and fit.confidence < opt.propose_below and self._leap(fit) > LEAP
+        if ran_off or not self._finds(fit):
             template = None if was_lost else self._local.template
             held = self.fitter.hold(frame, self.state, template, self._hidden.triangles)
             its += held.iterations
-            if self._finds(held):
+            if self._finds(held) and (held.confidence > fit.confidence or not self._finds(fit)):
                 fit = held
         # Before giving up: a wide search from the last good pose, then from features.
         for fallback in (self._wide_start, self._feature_start):
@@ -375,10 +377,14 @@ class Tracker:
             return False
         if sure >= opt.reacquire_above:
             return True
+        frames = 1 if self.lost else 1 + self._stale
+        return self._leap(fit) <= LEAP * frames
+
+    def _leap(self, fit: Fit) -> float:
+        """How far the fit's modal mesh lies from the last frame's, in RMS blob radii."""
         zero = np.zeros_like(self.blob.vertices)
         moved = self.fitter.nodes(fit.params, zero) - self.fitter.nodes(self.state, zero)
-        frames = 1 if self.lost else 1 + self._stale
-        return float(np.sqrt((moved**2).sum(axis=1).mean())) <= LEAP * frames * self.blob.length
+        return float(np.sqrt((moved**2).sum(axis=1).mean())) / self.blob.length
 
     def _fit(
         self, frame, seeds, wide=False, checked=False, covered=None, adapted=True, trial=False
