@@ -43,7 +43,8 @@ FUTILE_FRAMES = 8
 AGAIN_GAIN = 0.15
 #: A fit below ``reacquire_above`` whose nodes moved more than this many RMS radii from the
 #: last frame's is taken for lost (see ``Tracker._found``); as many times this after frames
-#: that kept the pose held still.
+#: that kept the pose held still. A fit below ``propose_below`` that far off has the last
+#: frame's pose judged on the frame as it is, and kept when it fits better (``_track``).
 LEAP = 0.15
 
 
