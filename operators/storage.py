@@ -166,7 +166,11 @@ def take_names(mesh) -> list:
 
 def stored_take(mesh, name: str) -> StoredTake:
     """A take stored with a blob, in either format version."""
-    data, frames, rest = _take_record(mesh, name)
+    return _parsed(name, *_take_record(mesh, name))
+
+
+def _parsed(name: str, data: bytes, frames, rest) -> StoredTake:
+    """The take ``name`` from its stored record (see :func:`_take_record`)."""
     take = take_from_bytes(data, source=f"Take {name!r}")
     if frames is None or len(frames) != len(take):
         raise VoodooError(f"Take {name!r} has no frame numbers; record it again.")
@@ -196,15 +200,15 @@ def shown_take(mesh, name: str) -> StoredTake | None:
     redraw.
     """
     try:
-        data = _take_record(mesh, name)[0]
+        record = _take_record(mesh, name)
     except VoodooError:
         return None
-    key, check = (mesh.session_uid, name), zlib.crc32(data)
+    key, check = (mesh.session_uid, name), zlib.crc32(record[0])
     kept = _shown.get(key)
     if kept is not None and kept[0] == check:
         return kept[1]
     try:
-        stored = stored_take(mesh, name)
+        stored = _parsed(name, *record)
     except VoodooError:
         return None
     if len(_shown) > 16:

@@ -282,12 +282,13 @@ class Tracker:
         # may simply not have moved, and the fits ran off from near it (see
         # ``CoarseToFineFitter.hold``).
         held = None
+        finds = self._finds(fit)
         ran_off = not was_lost and fit.confidence < opt.propose_below and self._leap(fit) > LEAP
-        if ran_off or not self._finds(fit):
+        if ran_off or not finds:
             template = None if was_lost else self._local.template
             held = self.fitter.hold(frame, self.state, template, self._hidden.triangles)
             its += held.iterations
-            if self._finds(held) and (held.confidence > fit.confidence or not self._finds(fit)):
+            if self._finds(held) and (not finds or held.confidence > fit.confidence):
                 fit = held
         # Before giving up: a wide search from the last good pose, then from features.
         for fallback in (self._wide_start, self._feature_start):
