@@ -16,6 +16,7 @@ from voodoo_addon.devtools.scenarios import scenario_poses, scenario_take
 from voodoo_addon.devtools.synthetic import Pose, foam_scene
 from voodoo_addon.errors import VoodooError
 from voodoo_addon.tracking import Tracker, TrackerOptions, TrackResult
+from voodoo_addon.tracking import tracker as tracker_module
 
 FRAMES = 24
 SIZE = (320, 240)
@@ -389,7 +390,6 @@ class _CountingMatcher:
 def test_a_futile_feature_search_is_not_repeated_until_the_fit_worsens(monkeypatch):
     """Features that found nothing better are not sought again on the next frames while the
     fit stays as good; once it is clearly worse they are sought again."""
-    from voodoo_addon.tracking import tracker as tracker_module
 
     take = scenario("mixed")
     monkeypatch.setattr(tracker_module, "FEATURES_BELOW", 1.0)  # every frame "fits poorly"
@@ -411,7 +411,6 @@ def test_a_futile_feature_search_is_made_again_every_few_frames(monkeypatch):
     pose while half of it was turned away is found when it opens, though the wrong pose
     fits no worse. The search is made again every ``FUTILE_FRAMES`` frames, not on every
     frame."""
-    from voodoo_addon.tracking import tracker as tracker_module
 
     take = scenario("mixed")
     monkeypatch.setattr(tracker_module, "FEATURES_BELOW", 1.0)  # every frame "fits poorly"
@@ -432,7 +431,6 @@ def test_a_doll_fitting_too_poorly_is_searched_for_as_a_lost_one(monkeypatch):
     """Features are sought as for a lost doll (fainter ones, where its template has few)
     once the frame's fit is less sure than a re-acquisition must be; a doll fitting well
     enough keeps the plain features."""
-    from voodoo_addon.tracking import tracker as tracker_module
 
     take = scenario("mixed")
     monkeypatch.setattr(tracker_module, "FEATURES_BELOW", 1.0)  # every frame "fits poorly"
@@ -456,7 +454,8 @@ def test_a_poor_fit_against_the_adapted_look_is_made_again_against_the_template(
     last = len(take.frames) - 1
     # On this clean take a look 10 px behind still fits fairly (the coarse levels compare
     # with the template): "too poor to trust" is raised to match.
-    tracker = Tracker(take.blob, options=TrackerOptions(reacquire_above=0.95))
+    monkeypatch.setattr(tracker_module, "OWN_LOOK_BELOW", 0.95)
+    tracker = Tracker(take.blob)
     for frame in take.frames[:last]:
         tracker.track(frame)
     # The look as a fit trailing the doll by 10 px would have seen it: the frame sampled
@@ -479,7 +478,7 @@ def test_a_poor_fit_against_the_adapted_look_is_made_again_against_the_template(
     monkeypatch.setattr(tracker, "_fit", recording_fit)
     res = tracker.track(take.frames[last])
     adapted, poor = looks[0]
-    assert adapted and poor < tracker.options.reacquire_above
+    assert adapted and poor < tracker_module.OWN_LOOK_BELOW
     own = [conf for adapted, conf in looks if not adapted]
     assert own and own[0] > 0.9  # the blob's own template fits this frame well
     assert not res.lost and res.confidence > 0.9
