@@ -172,7 +172,7 @@ SHORT = {
     "paper_half_fold": {"lost": 3},
     # Intel Xeon, NumPy 1.26: 3.33 px against DIS's 3.09 (2.35 with NumPy 2.3), before the
     # fit against the blob's own look below 0.45 (``tracker.OWN_LOOK_BELOW``); AMD EPYC with
-    # it: 1.87 (2.27 with NumPy 2.3), without it 3.33 (2.35).
+    # it: 1.86 (2.27 with NumPy 2.3), without it 3.33 (2.35).
     "plush_nod": {"dis": 1.1},
 }
 

@@ -44,9 +44,9 @@ AGAIN_GAIN = 0.15
 #: A fit below this is made once more against the blob's own template, not the look adapted
 #: on the last frame. A furry patch turned away fits its adapted look at 0.33-0.47 where the
 #: look was mixed with the doll's back; against its own template the fit finds the part
-#: coming back (``samples/heldout_folds2/plush_nod``: 3.33 -> 1.87 px). At 0.3 (only fits
+#: coming back (``samples/heldout_folds2/plush_nod``: 3.33 -> 1.86 px). At 0.3 (only fits
 #: too poor to find a lost doll) the plush stays 12-20 px off for 8 frames; at 0.6 the sixth
-#: batch's redraws lose 32 frames instead of 18.
+#: batch's renders, clean and redrawn, lose 32 frames instead of 18.
 OWN_LOOK_BELOW = 0.45
 #: A fit below ``reacquire_above`` whose nodes moved more than this many RMS radii from the
 #: last frame's is taken for lost (see ``Tracker._found``); as many times this after frames
