@@ -9,7 +9,7 @@ import pytest
 
 from voodoo_addon.blob.build import build_blob
 from voodoo_addon.devtools.camera import CAMERAS
-from voodoo_addon.devtools.clips import LatticeTruth, read_clip
+from voodoo_addon.devtools.clips import LatticeTruth, read_clip, track_ours, truth_errors
 from voodoo_addon.devtools.folds import (
     HELDOUT_FOLDS,
     HELDOUT_FOLDS2,
@@ -242,16 +242,9 @@ def test_a_fit_that_runs_far_off_keeps_the_pose_it_ran_from():
     0.55-0.79 in view. The fit that ran off is not taken: before, the doll was tracked 16-25
     px off from frame 35 and lost on frames 46-62 while half of it was seen."""
     clip = next(c for c in HELD_OUT_6 if c.name == "minky_tail_swing")
-    frames, outline, _ = read_clip(clip)
-    blob = build_blob(to_float_rgb(frames[0]), outline)
-    truth = LatticeTruth(clip.truth)
-    tracker = Tracker(blob)
-    for i, frame in enumerate(frames[:40]):
-        res = tracker.track(frame)
-        if i >= 34:
-            nodes, seen = truth(i, blob.vertices)
-            err = np.linalg.norm(res.nodes - nodes, axis=1)[seen].mean()
-            assert not res.lost and err < 5.0, (i, err, res.confidence)
+    err, lost, conf = _tracked(clip, 40)
+    for i in range(34, 40):
+        assert not lost[i] and err[i] < 5.0, (i, err[i], conf[i])
 
 
 @pytest.mark.slow
@@ -262,17 +255,21 @@ def test_a_patch_turned_away_is_fitted_against_its_own_look_too():
     once more against the blob's own template where it fits under
     ``tracker.OWN_LOOK_BELOW``, the doll is under 2.2 px off from frame 65 on both lines."""
     clip = next(c for c in HELD_OUT_2 if c.name == "plush_nod")
+    err, lost, conf = _tracked(clip, 73)
+    for i in range(73):
+        assert not lost[i], (i, err[i], conf[i])
+        if i >= 65:
+            assert err[i] < 3.0, (i, err[i], conf[i])
+
+
+def _tracked(clip, count):
+    """The live tracker on a clip's first ``count`` frames: the mean error of the nodes the
+    renderer sees, lost and confidence, per frame."""
     frames, outline, _ = read_clip(clip)
     blob = build_blob(to_float_rgb(frames[0]), outline)
-    truth = LatticeTruth(clip.truth)
-    tracker = Tracker(blob)
-    for i, frame in enumerate(frames[:73]):
-        res = tracker.track(frame)
-        nodes, seen = truth(i, blob.vertices)
-        err = np.linalg.norm(res.nodes - nodes, axis=1)[seen].mean()
-        assert not res.lost, (i, err, res.confidence)
-        if i >= 65:
-            assert err < 3.0, (i, err, res.confidence)
+    verts, lost, _, conf = track_ours(frames[:count], blob)
+    err, _ = truth_errors(LatticeTruth(clip.truth), blob.vertices, verts)
+    return err, lost, conf
 
 
 class _Shapes:
