@@ -256,6 +256,21 @@ def test_a_reset_that_searches_finds_the_doll_away_from_the_pose_it_was_given():
     np.testing.assert_allclose(res.nodes, take.blob.vertices, atol=0.1)
 
 
+def test_a_lost_doll_is_looked_for_where_it_was_captured_too():
+    """A track can slide off a faint doll and end far away and shrunk; the doll is lost
+    there. Held where it was captured, it is found again, by the search alone (no
+    features): the capture pose is one of a lost doll's starts."""
+    take = scenario("translate")
+    tracker = Tracker(take.blob, options=TrackerOptions(features=False))
+    off = tracker.layout.identity()
+    off[0] += 60.0
+    off[3] = np.log(0.4)
+    tracker.reset(off, search=True)
+    res = tracker.track(take.frames[0])
+    assert res.reacquired and not res.lost
+    np.testing.assert_allclose(res.nodes, take.blob.vertices, atol=0.1)
+
+
 # ------------------------------------------------------------------------- frozen parameters
 
 
