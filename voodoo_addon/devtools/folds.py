@@ -270,6 +270,17 @@ def nearest_modal_params(blob, truth: LatticeTruth, layout) -> np.ndarray:
     return np.array(out)
 
 
+def open_fold_clip(clip: Clip, camera: CameraFaults | None = None):
+    """(frames, blob, truth) of a fold render: the blob built on its first frame.
+
+    ``camera``: the faults to put on the frames first (None: the clean render).
+    """
+    frames, outline, _ = read_clip(clip)
+    if camera is not None:
+        frames = degrade(frames, camera)
+    return frames, build_blob(to_float_rgb(frames[0]), outline), LatticeTruth(clip.truth)
+
+
 def run_fold_clip(
     clip: Clip, trackers=("ours", "klt", "dis"), options=None, camera: CameraFaults | None = None
 ) -> list[dict]:
@@ -277,11 +288,7 @@ def run_fold_clip(
 
     ``camera``: the faults to put on the frames first (None: the clean render).
     """
-    frames, outline, _ = read_clip(clip)
-    if camera is not None:
-        frames = degrade(frames, camera)
-    blob = build_blob(to_float_rgb(frames[0]), outline)
-    truth = LatticeTruth(clip.truth)
+    frames, blob, truth = open_fold_clip(clip, camera)
     layout = ParamLayout(tuple(str(n) for n in blob.labels))
     rows = []
     forward = None

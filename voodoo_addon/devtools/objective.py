@@ -22,14 +22,11 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from ..blob.build import build_blob
 from ..media.images import to_float_rgb
 from ..tracking import kernels
-from ..tracking.params import ParamLayout
 from ..tracking.tracker import Tracker
-from .camera import CameraFaults, add_camera_arguments, chosen_camera, degrade
-from .clips import LatticeTruth, read_clip
-from .folds import fold_suite, nearest_modal_params
+from .camera import CameraFaults, add_camera_arguments, chosen_camera
+from .folds import fold_suite, nearest_modal_params, open_fold_clip
 
 
 def compare_poses(clip, first: int, last: int, camera: CameraFaults | None = None) -> list[dict]:
@@ -38,14 +35,10 @@ def compare_poses(clip, first: int, last: int, camera: CameraFaults | None = Non
     Keys: ``frame``, ``track_error_px`` (the tracker's modal pose on the renderer's seen
     nodes), ``colour_true``, ``colour_track``, ``gradient_true``, ``gradient_track``.
     """
-    frames, outline, _ = read_clip(clip)
-    if camera is not None:
-        frames = degrade(frames, camera)
-    blob = build_blob(to_float_rgb(frames[0]), outline)
-    truth = LatticeTruth(clip.truth)
-    layout = ParamLayout(tuple(str(n) for n in blob.labels))
-    best = nearest_modal_params(blob, truth, layout)
+    frames, blob, truth = open_fold_clip(clip, camera)
     tracker = Tracker(blob)
+    layout = tracker.layout
+    best = nearest_modal_params(blob, truth, layout)
     level = tracker.fitter.levels[0].level
     rest = np.zeros_like(blob.vertices)
     patch = level.patches.of_pixel if level.patches is not None else np.zeros(len(level), int)

@@ -24,12 +24,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..blob.build import build_blob
-from ..media.images import to_float_rgb
 from ..tracking import Tracker
-from .camera import CameraFaults, add_camera_arguments, chosen_camera, degrade
-from .clips import Clip, LatticeTruth, read_clip
-from .folds import nearest_modal_params
+from .camera import CameraFaults, add_camera_arguments, chosen_camera
+from .clips import Clip
+from .folds import nearest_modal_params, open_fold_clip
 
 
 def probe(clip: Clip, frames=None, camera: CameraFaults | None = None) -> list[dict]:
@@ -42,11 +40,7 @@ def probe(clip: Clip, frames=None, camera: CameraFaults | None = None) -> list[d
     ``from_truth_error`` / ``from_truth_confidence`` of a fit started at the truth's pose.
     Errors are means over the seen nodes; a row of a lost frame has no judgement (NaN).
     """
-    pictures, outline, _ = read_clip(clip)
-    if camera is not None:
-        pictures = degrade(pictures, camera)
-    blob = build_blob(to_float_rgb(pictures[0]), outline)
-    truth = LatticeTruth(clip.truth)
+    pictures, blob, truth = open_fold_clip(clip, camera)
     tracker = Tracker(blob)
     poses = nearest_modal_params(blob, truth, tracker.layout)
     asked = set(range(len(pictures)) if frames is None else frames)
