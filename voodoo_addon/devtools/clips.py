@@ -21,7 +21,7 @@ from ..blob.build import build_blob
 from ..blob.outline import load_contour_json
 from ..media.images import to_float_rgb
 from ..media.sources import ArraySource, open_source
-from ..takes.both_ways import track_both_ways
+from ..takes.both_ways import merge, track_backward
 from ..takes.take import Take
 from ..tracking import Tracker
 from ..tracking.quality import score_track
@@ -163,13 +163,14 @@ def track_ours(frames, blob, options=None, params=False, visible=False):
     return (*out, np.array(seen)) if visible else out
 
 
-def track_ours_both_ways(frames, blob, forward, options=None):
+def track_ours_both_ways(frames, blob, forward, options=None, passes: dict | None = None):
     """Ours tracked back from the end of a forward track and merged with it.
 
     ``forward``: what ``track_ours(frames, blob, options, params=True, visible=True)`` gave
     on the same frames (see :mod:`voodoo_addon.takes.both_ways`). Returns the same six
     arrays for the merged take; its seconds are each frame's two passes together (the
-    frames but the first and the last, which each pass starts on).
+    frames but the first and the last, which each pass starts on). ``passes``, when given,
+    gets the backward pass's take as ``"backward"``.
     """
     verts, lost, secs, conf, params, visible = forward
     n = len(frames)
@@ -188,9 +189,12 @@ def track_ours_both_ways(frames, blob, forward, options=None):
         visible=visible,
     )
     stamps = [time.perf_counter()]
-    merged = track_both_ways(
+    backward = track_backward(
         troupe, ArraySource(frames), {"doll": take}, lambda _: stamps.append(time.perf_counter())
     )["doll"]
+    merged = merge(take, backward)
+    if passes is not None:
+        passes["backward"] = backward
     back = np.zeros(n)  # frame i's backward pass at [i] (none after the frame it starts on)
     done = np.diff(stamps)[::-1]
     back[: len(done)] = done

@@ -298,7 +298,8 @@ def run_fold_clip(
             if forward is None:
                 forward = track_ours(frames, blob, options, params=True, visible=True)
             both = name == "both"
-            got = track_ours_both_ways(frames, blob, forward, options) if both else forward
+            passes = {}
+            got = track_ours_both_ways(frames, blob, forward, options, passes) if both else forward
             verts, lost, secs, conf, params, visible = got
             amps = params[:, layout.modes]
             extra["confidence"] = np.round(conf, 3).tolist()
@@ -308,6 +309,11 @@ def run_fold_clip(
             jump, typical = mode_jumps(amps, lost)
             extra["mode_jump_px"] = round(jump, 2)
             extra["mode_step_median_px"] = round(typical, 3)
+            if both:  # the crossfade's own jumps: beyond the larger of the two passes'
+                back = passes["backward"]
+                extra["backward_mode_jump_px"] = round(
+                    mode_jumps(back.params[:, layout.modes], back.lost)[0], 2
+                )
             truth_jump = mode_jumps(true_modes(blob, truth, layout), np.zeros(len(truth), bool))
             extra["true_mode_jump_px"] = round(truth_jump[0], 2)
         elif name == "modes":
