@@ -34,7 +34,7 @@ def judge(tracker: Tracker, frame: np.ndarray, a: np.ndarray) -> float:
     step = fitter.levels[0]
     org, box = step.bind(images[step.index], origin)
     ev = step.evaluate(a, org, box)
-    return 0.0 if ev is None else fitter.quality(ev, a).in_view
+    return 0.0 if ev is None else fitter.quality(ev, a, images.judged(step.index)).in_view
 
 
 def samples(clip, every: int = 6, seed: int = 0):

@@ -24,6 +24,7 @@ from . import kernels
 from .decomposition import Evaluation
 from .level import Level
 from .params import ParamLayout
+from .warp import padded, remap_points
 
 #: Pixels the quality is computed on (an even subsample of the level's).
 QUALITY_SAMPLES = 1000
@@ -97,7 +98,7 @@ class QualityMeter:
         self.n_tri = level.n_triangles
         self._triangle = level.triangle
         tri = level.triangle[:: self.step]
-        t = level.template[:: self.step].astype(np.float64)  # (n', 3)
+        t = level.plain_template[:: self.step].astype(np.float64)  # (n', 3)
         self.channels = t.shape[1]
         self.key = (tri[:, None] * self.channels + np.arange(self.channels)).ravel()
         self.t = t.ravel()
@@ -120,8 +121,13 @@ class QualityMeter:
         mean = s / np.maximum(count, 1.0)
         return count, mean, np.maximum(ss / np.maximum(count, 1.0) - mean * mean, 0.0)
 
-    def __call__(self, ev: Evaluation, a: np.ndarray) -> Quality:
-        """The quality of the evaluation ``ev``, made at parameters ``a``."""
+    def __call__(self, ev: Evaluation, a: np.ndarray, plain: np.ndarray | None = None) -> Quality:
+        """The quality of the evaluation ``ev``, made at parameters ``a``.
+
+        ``plain``: the picture ``ev`` sampled, as read, when the fit compared it with its
+        detail strengthened (:func:`.pictures.emphasise`); the quality is measured on the
+        colours as they are, so that it means the same with or without.
+        """
         # Every triangle on the picture and not turned away is judged for ``value`` -- the
         # ones the fit left out as covered too: a fit that explains half of the doll and
         # calls the other half covered has not shown that it is right. ``in_view`` judges
@@ -129,7 +135,14 @@ class QualityMeter:
         # through the view factor, and calling the rest covered needs the part in view to
         # fit well first (see ``evaluation._coverable``).
         compared = ev.valid if ev.hidden is None else ev.valid & ~ev.hidden[self._triangle]
-        return self.measure(ev.samples[:: self.step], compared[:: self.step], a, ev.triangle_weight)
+        if plain is None:
+            samples = ev.samples[:: self.step]
+        else:
+            at = ev.positions[:, : len(compared) : self.step]
+            pos = np.zeros((2, padded(at.shape[1])), np.float32)
+            pos[:, : at.shape[1]] = at
+            samples = remap_points(plain, pos)[: at.shape[1]]
+        return self.measure(samples, compared[:: self.step], a, ev.triangle_weight)
 
     def measure(self, samples, compared, a, kept=None) -> Quality:
         """The quality from the frame's colours at the meter's own pixels.

@@ -28,7 +28,7 @@ from . import kernels
 from .level import Level
 from .norms import RobustNorm
 from .params import ParamLayout
-from .warp import WarpBackend
+from .warp import WarpBackend, remap_points
 
 #: Once the fit is good (the patches in view correlate with the template, see
 #: ``_coverable``), a patch that correlates below :data:`OCCLUDED_CORRELATION` is covered
@@ -89,6 +89,8 @@ class Evaluation:
         Template minus frame with the lighting removed, before the robust transform.
     outliers : (n,) bool or None
         Single pixels of the kept triangles left out (found by this evaluation or given).
+    positions : (2, n_pad) float32 or None
+        Where the pixels were sampled on the bound picture (see :meth:`Level.positions`).
     """
 
     samples: np.ndarray
@@ -102,6 +104,7 @@ class Evaluation:
     hidden: np.ndarray | None = None
     difference: np.ndarray | None = None
     outliers: np.ndarray | None = None
+    positions: np.ndarray | None = None
     _dbar: np.ndarray | None = field(default=None, repr=False)
 
     @property
@@ -186,7 +189,7 @@ def evaluate(
     found = sample(level, a, origin, box, backend, nodes, cover)
     if found is None:
         return None
-    samples, valid = found
+    samples, valid, positions = found
     valid_all = valid is None
     if valid_all:
         valid = level.all_valid
@@ -260,15 +263,17 @@ def evaluate(
         hidden,
         compare.diff,
         outliers,
+        positions,
     )
 
 
-def sample(level: Level, a, origin, box, backend: WarpBackend, nodes, cover=None):
+def sample(level: Level, a, origin, box, backend: WarpBackend, nodes, cover=None, picture=None):
     """The frame at the level's pixels warped by ``a`` (``nodes``: ``level.nodes(a)``).
 
     Returns (samples (n, 3) float32, valid (n,) bool or None when every pixel is on the
-    picture and not covered), or None when fewer than 15% are. The arguments are
-    :func:`evaluate`'s.
+    picture and not covered, positions (2, n_pad) on the picture), or None when fewer than
+    15% are. The arguments are :func:`evaluate`'s; ``picture``, when given, is sampled
+    instead of the one bound to ``backend`` (the same region of the frame, shown otherwise).
     """
     n = len(level)
     pos = level.positions(a, nodes)
@@ -284,7 +289,9 @@ def sample(level: Level, a, origin, box, backend: WarpBackend, nodes, cover=None
             on = np.count_nonzero(valid)
     if on < 0.15 * n:
         return None
-    return backend.sample(level.geometry, nodes - origin, pos), valid
+    if picture is not None:
+        return remap_points(picture, pos)[:n], valid, pos
+    return backend.sample(level.geometry, nodes - origin, pos), valid, pos
 
 
 class Cover:

@@ -21,7 +21,7 @@ from .folding import FoldGuard
 from .level import Level
 from .norms import RobustNorm
 from .params import ParamLayout, node_positions
-from .pictures import FramePictures, base_level
+from .pictures import FramePictures, base_level, detail_for
 from .refine import LocalRefiner
 from .warp import WarpBackend
 
@@ -99,13 +99,15 @@ class CoarseToFineFitter:
         )
         patches = opt.lighting == "local"
         self.base = base_level(blob.n_pixels, opt.pixel_budget)
-        levels = [Level(blob, self.base, layout, opt.pixel_budget, patches)]
+        #: How much the detail of template and frames is strengthened in the comparisons.
+        self.detail = detail = detail_for(blob.template) if opt.detail is None else opt.detail
+        levels = [Level(blob, self.base, layout, opt.pixel_budget, patches, detail)]
         levels[0].finest = True
         while len(levels) < opt.max_levels:
             # Coarse levels only need to bring the fine level into range: a quarter of the
             # budget per level down keeps them cheap on big blobs.
             budget = opt.pixel_budget and opt.pixel_budget // 4 ** len(levels)
-            nxt = Level(blob, self.base + len(levels), layout, budget, patches)
+            nxt = Level(blob, self.base + len(levels), layout, budget, patches, detail)
             if len(nxt) < opt.min_level_pixels:
                 break
             levels.append(nxt)
@@ -128,7 +130,7 @@ class CoarseToFineFitter:
             for lv in levels
         ]
         self._base = None
-        self.pictures = FramePictures(blob.blur_sigma, self.base, len(self.levels))
+        self.pictures = FramePictures(blob.blur_sigma, self.base, len(self.levels), detail)
         # The coarse levels' fits and grid searches of the frame being fitted (see
         # :meth:`_level_fit`), by what they start from; dropped with the frame's pictures.
         self._coarse: dict = {}
@@ -337,7 +339,7 @@ class CoarseToFineFitter:
 
     def _judged(self, a, ev: Evaluation, its: int, pyr, covered) -> Fit:
         """The fit at ``a`` whose finest comparison is ``ev``, with its quality."""
-        q = self.quality(ev, a)
+        q = self.quality(ev, a, pyr[0].judged(self.base))
         visible = ev.triangle_weight > 0
         return Fit(a, q.value, its, ev.residual, ev.occluded_share, q, visible, pyr, covered)
 

@@ -17,6 +17,7 @@ from ..blob.model import ActiveBlob
 from . import kernels
 from .params import ParamLayout, node_positions
 from .photometry import Patches, group_triangles
+from .pictures import emphasise
 from .warp import WarpBackend, WarpGeometry, padded
 
 #: Parameter steps at every level: translations and modes move the blob by one level pixel
@@ -48,6 +49,9 @@ class Level:
     patches : bool
         Group the pixels into lighting patches (see :mod:`.photometry`) whose gain and bias
         are projected out of every comparison.
+    detail : float
+        The texture's detail is strengthened by this (:func:`.pictures.emphasise`), as the
+        frames' are.
     """
 
     def __init__(
@@ -57,6 +61,7 @@ class Level:
         layout: ParamLayout,
         pixel_budget: int | None = None,
         patches: bool = False,
+        detail: float = 0.0,
     ):
         self.index = index
         self.scale = 2.0**-index
@@ -93,12 +98,18 @@ class Level:
         self.geometry = WarpGeometry(self.vertices, blob.triangles, coords, tri, weights)
         # Texture of this level: the blob's blurred crop taken down the same pyramid.
         origin = blob.texture_origin.astype(np.float64)
-        tex = pyramid(blob.texture, index + 1)[-1]
+        plain = pyramid(blob.texture, index + 1)[-1]
+        tex = emphasise(plain, detail)
         self.texture = tex
         self.texture_origin = origin * f
         local = (coords - self.texture_origin).round().astype(np.int64)
         local = np.clip(local, 0, np.array(tex.shape[1::-1]) - 1)
         self.template = np.ascontiguousarray(tex[local[:, 1], local[:, 0]])  # (n, 3) float32
+        #: The template's colours as they are, without the detail strengthened (the
+        #: confidence is measured on them, see :class:`.confidence.QualityMeter`).
+        self.plain_template = (
+            self.template if tex is plain else np.ascontiguousarray(plain[local[:, 1], local[:, 0]])
+        )
         self.patches = None if patch is None else Patches(patch, self.template)
         # Pixel positions follow the warped nodes barycentrically (the warp is piecewise
         # affine): each pixel's three corners and weights. Padded to whole remap rows.

@@ -13,6 +13,8 @@ LIGHTING = ("local", "channel", "global", "none")
 SIGMA_RANGE = (1e-4, 10.0)
 #: Stiffness weights it takes (beyond, the modes cannot move and the solve is singular).
 GAMMA_RANGE = (0.0, 1e6)
+#: The most the detail may be strengthened (beyond, the comparison is all noise).
+MAX_DETAIL = 20.0
 
 
 @dataclass(frozen=True)
@@ -74,6 +76,12 @@ class TrackerOptions:
         this, at least :data:`~.local.MIN_ANCHOR`); 0 turns it off.
     features : bool
         Re-acquire a lost blob by matching SIFT features against the template.
+    detail : float or None
+        Template and frames are compared with their detail finer than
+        :data:`~.pictures.DETAIL_SIGMA` pixels strengthened by this much
+        (:func:`~.pictures.emphasise`); 0 compares them as they are. None (default): as
+        much as the doll's texture needs (:func:`~.pictures.detail_for`): a faint one
+        (plush, fur, felt) is strengthened, a printed one is compared as it is.
     """
 
     sigma: float = 0.15
@@ -95,6 +103,7 @@ class TrackerOptions:
     refine_below: float = 0.97
     adapt_below: float = 0.97
     features: bool = True
+    detail: float | None = None
 
     def __post_init__(self):
         """Refuse NaN, infinity and out-of-range settings by name (a VoodooError)."""
@@ -114,6 +123,8 @@ class TrackerOptions:
             "outlier_factor": finite(self.outlier_factor, "the outlier factor", 0.0, low_open=True),
             "pixel_outlier": finite(self.pixel_outlier, "the pixel outlier limit", 0.0),
         }
+        if self.detail is not None:
+            numbers["detail"] = finite(self.detail, "the detail emphasis", 0.0, MAX_DETAIL)
         if self.pixel_budget is not None:
             numbers["pixel_budget"] = whole(self.pixel_budget, "the pixel budget", 0)
         for name, what in _THRESHOLDS.items():

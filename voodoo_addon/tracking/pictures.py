@@ -25,6 +25,42 @@ BASE_FACTOR = 2.0
 #: The region read around the blob reaches this share of its size beyond its nodes (and at
 #: least 8 pixels of the coarsest level).
 MARGIN = 0.15
+#: Scale (pixels of each pyramid level) below which :func:`emphasise` strengthens detail.
+DETAIL_SIGMA = 3.0
+#: A texture whose contrast (the standard deviation of the template's colours, in [0, 1])
+#: is below the first has its detail strengthened by :data:`FAINT_DETAIL`; above the second,
+#: not at all; in between, in proportion (see :func:`detail_for`).
+FAINT = (0.09, 0.13)
+FAINT_DETAIL = 5.0
+
+
+def emphasise(picture: np.ndarray, detail: float, sigma: float = DETAIL_SIGMA) -> np.ndarray:
+    """``picture`` with its detail finer than ``sigma`` pixels made ``1 + detail`` times as strong.
+
+    ``picture + detail (picture - blur(picture))``, float32; ``detail`` 0 returns it as it is.
+    """
+    if detail <= 0:
+        return picture
+    smooth = blur(picture, sigma)
+    out = picture - smooth
+    out *= np.float32(detail)
+    out += picture
+    return out
+
+
+def detail_for(template: np.ndarray) -> float:
+    """How much to strengthen the detail of a doll with the template colours ``template``.
+
+    On a faint texture -- plush, fur, felt: little contrast -- the shading of a doll
+    turning under a lamp changes more of each pixel's colour than the texture does, and
+    what a patch's gain and bias cannot absorb pulls the fit off by pixels; the fine
+    texture, which shading hardly touches, is what places it (BENCHMARKS.md, *Detail on
+    faint dolls*). A printed texture is placed by its own contrast, and strengthening its
+    detail would only weigh motion blur and creases more.
+    """
+    contrast = float(np.std(template))
+    low, high = FAINT
+    return FAINT_DETAIL * min(max((high - contrast) / (high - low), 0.0), 1.0)
 
 
 def to_float(pixels: np.ndarray) -> np.ndarray:
@@ -72,9 +108,12 @@ class FramePyramid:
         The template's blur, full-resolution pixels.
     base : int
         The finest level used: the region is blurred, then halved ``base`` times.
+    detail : float
+        Every level's picture is given to the fits with its detail strengthened by this
+        (:func:`emphasise`), as the template is.
     """
 
-    def __init__(self, region: np.ndarray, sigma: float, base: int = 0):
+    def __init__(self, region: np.ndarray, sigma: float, base: int = 0, detail: float = 0.0):
         img = region
         if img.dtype != np.uint8:
             img = to_float(img)
@@ -88,8 +127,24 @@ class FramePyramid:
         if img.dtype == np.uint8:
             img = to_float(img)
         self._levels = {base: img}
+        self.detail = detail
+        self._shown: dict[int, np.ndarray] = {}
 
     def __getitem__(self, level: int) -> np.ndarray:
+        out = self._shown.get(level)
+        if out is None:
+            out = self._shown[level] = emphasise(self.plain(level), self.detail)
+        return out
+
+    def judged(self, level: int) -> np.ndarray | None:
+        """The picture the confidence is measured on at ``level``, if not the fits' one.
+
+        :meth:`plain` when the fits compare it with its detail strengthened, else None.
+        """
+        return self.plain(level) if self.detail > 0 else None
+
+    def plain(self, level: int) -> np.ndarray:
+        """The picture of ``level`` as read (blurred), without :func:`emphasise`."""
         if level < self.base:
             raise IndexError(f"level {level} is finer than the base level {self.base}")
         for k in range(self.base + 1, level + 1):
@@ -109,10 +164,13 @@ class FramePictures:
         The finest level used (see :func:`base_level`).
     n_levels : int
         The levels used from ``base`` on: a region starts on a pixel of the coarsest.
+    detail : float
+        See :class:`FramePyramid`.
     """
 
-    def __init__(self, sigma: float, base: int, n_levels: int):
+    def __init__(self, sigma: float, base: int, n_levels: int, detail: float = 0.0):
         self.sigma = sigma
+        self.detail = detail
         self.base = base
         self.align = 2 ** (base + n_levels - 1)
         self.forget()
@@ -156,7 +214,9 @@ class FramePictures:
         pyr = self._kept.get(box)
         if pyr is None:
             x0, y0, x1, y1 = box
-            pyr = self._kept[box] = FramePyramid(frame[y0:y1, x0:x1], self.sigma, self.base)
+            pyr = self._kept[box] = FramePyramid(
+                frame[y0:y1, x0:x1], self.sigma, self.base, self.detail
+            )
         return pyr, np.array(box[:2], float)
 
 

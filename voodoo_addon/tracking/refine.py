@@ -191,6 +191,7 @@ class LocalRefiner:
         held = hold(confidence)
         org, box = step.bind(images[step.index], origin)
         image = images[step.index]
+        plain = images.judged(step.index)  # what the confidence is measured on, if not image
         bare = self.bare(a)
         # The offsets carried from the last frame sit on this frame's modal shape: pull them
         # back as far as needed for no triangle to fold there.
@@ -215,7 +216,7 @@ class LocalRefiner:
                 break
             best = (u, ev)
             if steps == JUDGED_AFTER and needed is not None:
-                if self.value(a, org, box, nodes, ev.hidden) < needed - STILL_TO_GAIN:
+                if self.value(a, org, box, nodes, ev.hidden, plain) < needed - STILL_TO_GAIN:
                     return None
             grads = self.sample_gradients(image, nodes, org)
             du = self.step(ev, grads, a, u, bare + u, held)
@@ -232,20 +233,21 @@ class LocalRefiner:
         ev = step.evaluate(a, org, box, nodes, occluded, template=template)
         if ev is None:
             return None
-        return u, self._quality(ev, a), ev
+        return u, self._quality(ev, a, plain), ev
 
-    def value(self, a, org, box, nodes, hidden) -> float:
+    def value(self, a, org, box, nodes, hidden, plain=None) -> float:
         """The confidence (``Quality.value``) the full comparison would give at ``nodes``.
 
         Read on the quality meter's own pixels only: the same number for a tenth of the
         work. ``org`` and ``box`` as the finest level is bound, ``nodes`` in its pixels,
-        ``hidden`` (t,) bool or None the triangles turned away at ``a`` (``Evaluation.hidden``).
+        ``hidden`` (t,) bool or None the triangles turned away at ``a`` (``Evaluation.hidden``),
+        ``plain`` the picture to read instead of the bound one (``FramePyramid.judged``).
         """
         step = self.step_
-        found = sample(self._probe, a, org, box, step.backend, nodes, self.sub_step.cover)
+        found = sample(self._probe, a, org, box, step.backend, nodes, self.sub_step.cover, plain)
         if found is None:
             return 0.0
-        samples, valid = found
+        samples, valid, _ = found
         compared = np.ones(len(self._probe), bool) if valid is None else valid
         if hidden is not None:
             compared = compared & ~hidden[self._probe.triangle]
