@@ -60,3 +60,29 @@ def test_backend_choice(ctx, sub):
         assert backend.name == "gpu"
     assert gw.make_backend("CPU")[0].name == "cpu"
     assert gw.make_backend("GPU")[0].name == "gpu"
+
+
+@pytest.mark.xfail(
+    reason="with the detail strengthened the GPU warp drifts from the CPU warp (BENCHMARKS.md)"
+)
+def test_gpu_and_cpu_track_alike_with_the_detail_strengthened(gpu_backend, sub, clip_file):
+    """Faint dolls are compared with their detail strengthened: pictures whose values leave
+    [0, 1], which the GPU texture and target (32-bit float) keep. The two warps should
+    follow the clip alike, as they do without (within 0.05 px). They do not yet: forced on
+    this clip (its paint is not faint), the GPU track is 0.73 px from the CPU track on
+    frame 3 and 1.26 px on frame 5 (llvmpipe, bpy 5.0.1, 5.1.2 and 5.2.3), 1.08 px off the
+    truth where the CPU track is 0.31. The strengthened detail weighs the sampling's last
+    bits more; the GPU's bilinear filtering weights are likely the coarser ones."""
+    engine = sub("voodoo_addon")
+    frames = clip_file["frames"][:6]
+    blob = engine.build_blob(frames[0], clip_file["contour"])
+    options = engine.TrackerOptions(detail=5.0)
+    cpu = engine.Tracker(blob, options=options)
+    gpu = engine.Tracker(blob, options=options, backend=gpu_backend)
+    assert cpu.fitter.detail == gpu.fitter.detail == 5.0
+    for i, f in enumerate(frames):
+        rc, rg = cpu.track(f), gpu.track(f)
+        assert not rc.lost and not rg.lost
+        assert np.linalg.norm(rc.nodes - rg.nodes, axis=1).mean() < 0.05
+        truth = clip_file["truth"](i, blob.vertices)
+        assert np.linalg.norm(rg.nodes - truth, axis=1).mean() < 1.0
