@@ -37,6 +37,42 @@ def test_gpu_matches_cpu_sampling(gpu_backend, sub, clip_file):
         assert np.isfinite(got).all()
 
 
+def _bilinear(image, pos):
+    """Bilinear samples of ``image`` at ``pos`` (2, n) with exact (float64) weights."""
+    h, w = image.shape[:2]
+    x = np.clip(pos[0].astype(np.float64), 0, w - 1)
+    y = np.clip(pos[1].astype(np.float64), 0, h - 1)
+    x0 = np.minimum(np.floor(x).astype(int), w - 2)
+    y0 = np.minimum(np.floor(y).astype(int), h - 2)
+    fx, fy = (x - x0)[:, None], (y - y0)[:, None]
+    im = image.astype(np.float64)
+    top = im[y0, x0] * (1 - fx) + im[y0, x0 + 1] * fx
+    bottom = im[y0 + 1, x0] * (1 - fx) + im[y0 + 1, x0 + 1] * fx
+    return top * (1 - fy) + bottom * fy
+
+
+def test_gpu_samples_a_strengthened_picture_exactly(gpu_backend, sub, clip_file):
+    """A picture with its detail strengthened leaves [0, 1] (here -1.5 to 2.8): the GPU
+    keeps it in 32-bit floats and weighs the four pixels exactly, where OpenCV's remap
+    weighs them in 1/32 px steps (0.002 off on the mean here)."""
+    engine = sub("voodoo_addon")
+    pictures = sub("voodoo_addon.tracking.pictures")
+    frames = clip_file["frames"]
+    blob = engine.build_blob(frames[0], clip_file["contour"])
+    tracker = engine.Tracker(blob, options=engine.TrackerOptions(detail=5.0))
+    level = tracker.levels[0]
+    image = pictures.FramePyramid(frames[5], blob.blur_sigma, 0, 5.0)[0]
+    assert image.min() < -0.5 and image.max() > 1.5
+    a = tracker.layout.identity()
+    a[:4] += (3.3, -2.1, 0.2, 0.05)
+    a[tracker.layout.modes] = np.random.default_rng(3).normal(0, 2.0, blob.n_modes)
+    pos = level.positions(a)
+    gpu_backend.bind(image)
+    got = gpu_backend.sample(level.geometry, level.nodes(a), pos)
+    exact = _bilinear(image, pos[:, : len(level)])
+    assert np.abs(got - exact).mean() < 1e-4
+
+
 def test_gpu_and_cpu_track_alike(gpu_backend, sub, clip_file):
     engine = sub("voodoo_addon")
     frames = clip_file["frames"][:8]
@@ -62,27 +98,22 @@ def test_backend_choice(ctx, sub):
     assert gw.make_backend("GPU")[0].name == "gpu"
 
 
-@pytest.mark.xfail(
-    reason="with the detail strengthened the GPU warp drifts from the CPU warp (BENCHMARKS.md)"
-)
-def test_gpu_and_cpu_track_alike_with_the_detail_strengthened(gpu_backend, sub, clip_file):
-    """Faint dolls are compared with their detail strengthened: pictures whose values leave
-    [0, 1], which the GPU texture and target (32-bit float) keep. The two warps should
-    follow the clip alike, as they do without (within 0.05 px). They do not yet: forced on
-    this clip (its paint is not faint), the GPU track is 0.73 px from the CPU track on
-    frame 3 and 1.26 px on frame 5 (llvmpipe, bpy 5.0.1, 5.1.2 and 5.2.3), 1.08 px off the
-    truth where the CPU track is 0.31. The strengthened detail weighs the sampling's last
-    bits more; the GPU's bilinear filtering weights are likely the coarser ones."""
+def test_gpu_and_cpu_track_a_faint_doll_alike(gpu_backend, sub, clip_file):
+    """A faint doll is compared with its detail strengthened (pictures whose values leave
+    [0, 1], which the 32-bit float texture and target keep); the two warps still follow it
+    alike. The clip is the usual one with its contrast cut to 0.3, so the contrast rule
+    strengthens the detail 5x. (Forced on the clip's printed paint, the detail makes any
+    two samplers part by up to 0.7 px: OpenCV's remap, which weighs in 1/32 px steps,
+    against exact bilinear weights; the GPU's are exact to 3e-5.)"""
     engine = sub("voodoo_addon")
-    frames = clip_file["frames"][:6]
+    frames = [np.clip(0.5 + 0.3 * (f - 0.5), 0.0, 1.0) for f in clip_file["frames"][:8]]
     blob = engine.build_blob(frames[0], clip_file["contour"])
-    options = engine.TrackerOptions(detail=5.0)
-    cpu = engine.Tracker(blob, options=options)
-    gpu = engine.Tracker(blob, options=options, backend=gpu_backend)
+    cpu = engine.Tracker(blob)
+    gpu = engine.Tracker(blob, backend=gpu_backend)
     assert cpu.fitter.detail == gpu.fitter.detail == 5.0
     for i, f in enumerate(frames):
         rc, rg = cpu.track(f), gpu.track(f)
         assert not rc.lost and not rg.lost
         assert np.linalg.norm(rc.nodes - rg.nodes, axis=1).mean() < 0.05
         truth = clip_file["truth"](i, blob.vertices)
-        assert np.linalg.norm(rg.nodes - truth, axis=1).mean() < 1.0
+        assert np.linalg.norm(rg.nodes - truth, axis=1).mean() < 0.5
