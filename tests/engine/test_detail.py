@@ -99,3 +99,27 @@ def test_the_confidence_means_the_same_with_the_detail_strengthened(faint, shift
         assert strong > 0.9
     if shift >= 4.0:
         assert strong < 0.6
+
+
+def test_the_part_left_out_is_measured_apart(faint):
+    """``Quality.left_out_correlation``: how well the triangles a fit left out as covered
+    still correlate with the template, on the colours as they are -- a part merely
+    misaligned somewhat, a part under something else not at all (the *shown* fit is made
+    only for the first, ``hidden.left_out``)."""
+    scene, blob = faint
+    frame = scene.render(Pose(), noise=0.01, rng=np.random.default_rng(1))
+    tracker = Tracker(blob)
+    a = tracker.layout.identity()
+    centroids = blob.vertices[blob.triangles].mean(axis=1)
+    left = centroids[:, 0] < np.median(centroids[:, 0])
+    seen = tracker.fitter.hold(frame, a, covered=left).quality
+    assert seen.share == pytest.approx(0.5, abs=0.1)
+    assert seen.left_out_correlation > 0.8
+    # the left half under a card of another texture
+    card = np.random.default_rng(2).random(frame.shape[:2])[..., None].astype(np.float32)
+    x = int(np.median(centroids[:, 0]))
+    covered = frame.copy()
+    covered[:, :x] = 0.45 + 0.1 * card[:, :x]
+    under = tracker.fitter.hold(covered, a, covered=left).quality
+    assert abs(under.left_out_correlation) < 0.15
+    assert np.isnan(tracker.fitter.hold(frame, a).quality.left_out_correlation)

@@ -70,6 +70,9 @@ class Quality:
         :data:`POOR_CORRELATION`): covered, or the fit is off there.
     poor_share : float
         Their fraction of the textured blob.
+    left_out_correlation : float
+        The texture-weighted mean local correlation of the triangles compared but not kept
+        (the fit left them out as covered); NaN when there are none.
     """
 
     value: float
@@ -80,6 +83,7 @@ class Quality:
     share: float = 0.0
     poor: np.ndarray | None = field(default=None, compare=False, repr=False)
     poor_share: float = 0.0
+    left_out_correlation: float = float("nan")
 
 
 class QualityMeter:
@@ -194,7 +198,11 @@ class QualityMeter:
             return Quality(float(value), corr, seen, colour, 0.0, share, poor, poor_share)
         corr_kept = float((w[ok] * ncc[ok]).sum() / w[ok].sum())
         in_view = max(corr_kept, 0.0) * colour * min(1.0, share / FULL_VIEW)
-        return Quality(float(value), corr, seen, colour, float(in_view), share, poor, poor_share)
+        out_w = float(tri_w.sum() - w.sum())  # the triangles compared but not kept
+        out = (weighed.sum() - (w[ok] * ncc[ok]).sum()) / out_w if out_w > 0 else np.nan
+        return Quality(
+            float(value), corr, seen, colour, float(in_view), share, poor, poor_share, float(out)
+        )
 
     def _colour_agreement(self, frame_mean: np.ndarray, count: np.ndarray) -> float:
         """In [0, 1]: 1 when every coloured triangle has the template's chroma.

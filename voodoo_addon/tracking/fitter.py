@@ -268,7 +268,8 @@ class CoarseToFineFitter:
         are known to fold nothing (the tracker's own states and predictions). ``covered``
         (t,) bool: triangles the finest level leaves out as covered instead of testing.
         ``trial``: a start from a fit's own pose, taken only if it beats that fit (the
-        rest shape, when a hidden part may be back): one descent, at most
+        rest shape, when a hidden part may be back; the fit's own pose with nothing left
+        out, when a part left out may only be misaligned): one descent, at most
         :data:`TRIAL_ITERATIONS` at the finest level, no search over translations.
 
         1. Unless searching wide, the finest level is tried first from ``seeds[0]``: when

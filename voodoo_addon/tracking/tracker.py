@@ -18,7 +18,14 @@ from ..errors import VoodooError
 from ..threads import single_blas_thread
 from .evaluation import Cover
 from .fitter import CoarseToFineFitter, Fit
-from .hidden import HiddenPart, at_rest, returned, still_hidden
+from .hidden import (
+    HiddenPart,
+    at_rest,
+    left_out,
+    returned,
+    shows_more,
+    still_hidden,
+)
 from .local import LocalStage
 from .norms import LorentzianNorm, RobustNorm
 from .options import TrackerOptions
@@ -137,6 +144,7 @@ class Tracker:
         if self._matcher is not None:
             self._matcher.prepare(self._helper)
         self._hidden = HiddenPart(blob.vertices, blob.triangles)
+        self._nothing = np.zeros(len(blob.triangles), bool)  # leave no triangle out
         self._local = LocalStage(self.fitter, self.layout, opt)
         self.set_frozen(frozen)
         self.reset()
@@ -410,7 +418,7 @@ class Tracker:
         return (other if other.confidence > fit.confidence else fit), its + other.iterations
 
     def _hidden_part(self, frame, fit: Fit, its: int):
-        """The *still hidden* and *back* fits (see :mod:`.hidden`); (fit, iterations)."""
+        """The *still hidden*, *shown* and *back* fits (see :mod:`.hidden`); (fit, iterations)."""
         opt = self.options
         covered = self._hidden.covered(fit.quality)
         if fit.in_view < opt.propose_below and covered is not None:
@@ -418,6 +426,15 @@ class Tracker:
             its += held.iterations
             if still_hidden(fit, held) or self._rescues(held, fit):
                 fit = held
+        if self.fitter.detail > 0 and left_out(fit):
+            shown = self._fit(frame, [fit.params], covered=self._nothing, trial=True)
+            its += shown.iterations
+            if shown.confidence > fit.confidence:
+                # Judged as any fit is: what is covered at that pose is left out again.
+                again = self.fitter.hold(frame, shown.params, self._local.template)
+                its += again.iterations
+                if shows_more(fit, again) and not self._rescues(fit, again):
+                    fit = again
         if self._hidden.triangles is not None and fit.confidence < opt.refine_below:
             rest = at_rest(fit.params, self.layout, self.frozen)
             back = self._fit(frame, [rest], trial=True)
