@@ -12,9 +12,10 @@ what the tracker remembers of it from frame to frame, and the three more fits it
 - *shown*: a faint doll is compared with its detail strengthened, and a part of it merely
   misaligned by a few pixels -- a folded half coming back -- then no longer correlates and
   is left out as covered, and a part left out is not pulled back into place. A fit that
-  explains what it kept well but leaves a large part out is made once more, coarse to fine
-  from its own pose, with nothing left out, and taken when it explains the whole doll
-  better and the part in view nearly as well (:func:`left_out`, :func:`shows_more`);
+  explains what it kept well but leaves out a large part that still correlates somewhat
+  is made once more, coarse to fine from its own pose, with nothing left out, and taken
+  when it explains the whole doll better and the part in view nearly as well
+  (:func:`left_out`, :func:`shows_more`);
 - *back*: after a frame with a large part out of view, the fit from the doll's rest shape
   (:func:`at_rest`) is taken when it brings that part back into view
   (:func:`returned`): a folded part comes back near its rest shape far more often than in
