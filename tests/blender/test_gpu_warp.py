@@ -23,9 +23,7 @@ def test_gpu_matches_cpu_sampling(gpu_backend, sub, clip_file):
     cpu = engine.CpuWarp()
     rng = np.random.default_rng(3)
     for image in (frames[5], frames[12]):
-        a = tracker.layout.identity()
-        a[:4] += (3.3, -2.1, 0.2, 0.05)
-        a[tracker.layout.modes] = rng.normal(0, 2.0, blob.n_modes)
+        a = _warped(tracker, rng)
         pos = level.positions(a)
         nodes = level.nodes(a)
         for backend in (gpu_backend, cpu):
@@ -63,9 +61,7 @@ def test_gpu_samples_a_strengthened_picture_exactly(gpu_backend, sub, clip_file)
     level = tracker.levels[0]
     image = pictures.FramePyramid(frames[5], blob.blur_sigma, 0, 5.0)[0]
     assert image.min() < -0.5 and image.max() > 1.5
-    a = tracker.layout.identity()
-    a[:4] += (3.3, -2.1, 0.2, 0.05)
-    a[tracker.layout.modes] = np.random.default_rng(3).normal(0, 2.0, blob.n_modes)
+    a = _warped(tracker, np.random.default_rng(3))
     pos = level.positions(a)
     gpu_backend.bind(image)
     got = gpu_backend.sample(level.geometry, level.nodes(a), pos)
@@ -73,18 +69,32 @@ def test_gpu_samples_a_strengthened_picture_exactly(gpu_backend, sub, clip_file)
     assert np.abs(got - exact).mean() < 1e-4
 
 
-def test_gpu_and_cpu_track_alike(gpu_backend, sub, clip_file):
-    engine = sub("voodoo_addon")
-    frames = clip_file["frames"][:8]
+def _warped(tracker, rng):
+    """A pose moved, turned and scaled a little, with random modes."""
+    a = tracker.layout.identity()
+    a[:4] += (3.3, -2.1, 0.2, 0.05)
+    a[tracker.layout.modes] = rng.normal(0, 2.0, tracker.blob.n_modes)
+    return a
+
+
+def _track_alike(engine, gpu_backend, frames, clip_file, detail=None):
+    """Track ``frames`` with the CPU and the GPU warp side by side: the two tracks within
+    0.05 px of each other and the GPU's within 0.5 px of the truth on every frame."""
     blob = engine.build_blob(frames[0], clip_file["contour"])
     cpu = engine.Tracker(blob)
     gpu = engine.Tracker(blob, backend=gpu_backend)
+    if detail is not None:
+        assert cpu.fitter.detail == gpu.fitter.detail == detail
     for i, f in enumerate(frames):
         rc, rg = cpu.track(f), gpu.track(f)
         assert not rc.lost and not rg.lost
         assert np.linalg.norm(rc.nodes - rg.nodes, axis=1).mean() < 0.05
         truth = clip_file["truth"](i, blob.vertices)
         assert np.linalg.norm(rg.nodes - truth, axis=1).mean() < 0.5
+
+
+def test_gpu_and_cpu_track_alike(gpu_backend, sub, clip_file):
+    _track_alike(sub("voodoo_addon"), gpu_backend, clip_file["frames"][:8], clip_file)
 
 
 def test_backend_choice(ctx, sub):
@@ -105,15 +115,5 @@ def test_gpu_and_cpu_track_a_faint_doll_alike(gpu_backend, sub, clip_file):
     strengthens the detail 5x. (Forced on the clip's printed paint, the detail makes any
     two samplers part by up to 0.7 px: OpenCV's remap, which weighs in 1/32 px steps,
     against exact bilinear weights; the GPU's are exact to 3e-5.)"""
-    engine = sub("voodoo_addon")
     frames = [np.clip(0.5 + 0.3 * (f - 0.5), 0.0, 1.0) for f in clip_file["frames"][:8]]
-    blob = engine.build_blob(frames[0], clip_file["contour"])
-    cpu = engine.Tracker(blob)
-    gpu = engine.Tracker(blob, backend=gpu_backend)
-    assert cpu.fitter.detail == gpu.fitter.detail == 5.0
-    for i, f in enumerate(frames):
-        rc, rg = cpu.track(f), gpu.track(f)
-        assert not rc.lost and not rg.lost
-        assert np.linalg.norm(rc.nodes - rg.nodes, axis=1).mean() < 0.05
-        truth = clip_file["truth"](i, blob.vertices)
-        assert np.linalg.norm(rg.nodes - truth, axis=1).mean() < 0.5
+    _track_alike(sub("voodoo_addon"), gpu_backend, frames, clip_file, detail=5.0)
