@@ -80,9 +80,9 @@ class HiddenPart:
         #: part of the doll; None otherwise.
         self.triangles = None
         #: A large part has been out of view in some frame since the track began or the
-        #: doll was last found: a part left out now may be one coming back, and the *shown*
-        #: fit is worth making (see :func:`left_out`). Before that, it is not: made as a
-        #: faint half only started to fold, it sent the track elsewhere
+        #: doll was last lost: a part left out now may be one coming back, and the *shown*
+        #: fit is worth making (see :func:`left_out`). Before that, it is not: made while a
+        #: faint half only began to fold, it sent the track elsewhere
         #: (``samples/heldout_folds/plush_flip`` through a dim camera: 30-42 px off over
         #: frames 52-68; 5.61 px on average against 8.87).
         self.away = False
