@@ -305,6 +305,46 @@ def test_the_shown_fit_waits_for_a_part_to_have_been_out_of_view(monkeypatch):
     assert any(i < first_away for i in made), made
 
 
+def test_a_turned_part_comes_back_the_way_it_went(monkeypatch):
+    """``tail_turn``: the furry tail turned away comes back nearly edge-on (frame 51) and
+    opens over the next frames, while the fits hold it open near its rest shape. A pose
+    of its way out (``hidden.WayOut``) brings it within 3 px by frame 58; without the way
+    back the doll is still 6-8 px off on frames 58-60."""
+    clip = next(c for c in FOLDS if c.name == "tail_turn")
+    err, lost, _ = _tracked(clip, 61)
+    assert not lost.any()
+    assert (err[58:61] < 3.0).all(), err[50:61]
+    monkeypatch.setattr(hidden, "WAY_BACK_AFTER", 10**6)  # the way back never tried
+    err, _, _ = _tracked(clip, 61)
+    assert (err[58:61] > 5.0).all(), err[50:61]
+
+
+def test_the_way_out_is_kept_until_the_doll_is_back(foam):
+    """``WayOut``: the poses before a large part went out of view are kept, tried from
+    ``WAY_BACK_AFTER`` frames on, and dropped once the doll is all in view and fits well;
+    the poses nearest a fit's nodes in view come first."""
+    _, _, blob = foam
+    way = hidden.WayOut(lambda a: blob.vertices + a[:2])  # a pose's nodes: shifted by a[:2]
+    for k in range(30):
+        way.record(np.array([float(k), 0.0]), 1.0, 0.9)
+    assert way.path is None and not way.open
+    way.record(np.array([30.0, 0.0]), hidden.RETURN_BELOW - 0.1, 0.5)  # a part goes away
+    assert len(way.path) == hidden.WAY_OUT_FRAMES and way.path[-1][0] == 29.0
+    for _ in range(hidden.WAY_BACK_AFTER):
+        assert not way.open
+        way.record(np.array([30.0, 0.0]), 0.5, 0.5)
+    assert way.open
+    seen = np.arange(len(blob.vertices))
+    nearest = way.nearest(blob.vertices + [24.2, 0.0], seen)
+    assert [way.path[j][0] for j in nearest[:2]] == [24.0, 25.0]
+    way.record(np.array([0.0, 0.0]), 1.0, hidden.WAY_BACK_IN_VIEW)  # back and fitting well
+    assert way.path is None and not way.open
+    way.record(np.array([1.0, 0.0]), hidden.RETURN_BELOW - 0.1, 0.5)
+    assert way.path is None  # a way out of one pose is too short to keep
+    way.forget()
+    assert way.path is None
+
+
 def test_a_part_is_remembered_away_until_the_doll_is_lost(foam):
     """``HiddenPart.away``: set by a frame with a large part out of view, kept through the
     frames the doll is all in view again, dropped when the doll is lost."""

@@ -22,6 +22,13 @@ what the tracker remembers of it from frame to frame, and the three more fits it
   (:func:`returned`): a folded part comes back near its rest shape far more often than in
   the shape it was last seen in.
 
+- *the way back*: a doll that turns or folds a part away mostly brings it back through
+  the shapes it went away through. :class:`WayOut` keeps the poses of the frames before a
+  large part went out of view; while it is out, a poor fit is compared with the few of
+  them whose nodes in view lie nearest its own (:meth:`WayOut.nearest`), and the one that
+  explains the frame best is taken when it explains it better than the fit and than the
+  last frame's pose held still.
+
 It also says which triangles a frame's result reports in view (:meth:`HiddenPart.seen`):
 those the fit kept, less the poorly fitting ones in a large region out of view.
 """
@@ -49,6 +56,15 @@ SHOWN_LEFT_OUT = 0.1
 #: (``Quality.left_out_correlation``, on the colours as they are): a part merely misaligned
 #: does, somewhat; a part under something else mostly does not.
 SHOWN_CORRELATION = 0.15
+#: The way back (:class:`WayOut`): the poses of this many frames before a large part went
+#: out of view are kept; they are tried from this many frames after it went...
+WAY_OUT_FRAMES = 24
+WAY_BACK_AFTER = 5
+#: ...on the poses whose nodes in view lie nearest the fit's, this many of them...
+WAY_BACK_NEAREST = 4
+#: ...until the doll is back: this share of it in view, explained this well.
+WAY_BACK_SHARE = 0.95
+WAY_BACK_IN_VIEW = 0.8
 #: Poorly fitting triangles are taken for a part folded away or covered when they make up
 #: at least this share of the triangles beyond some line across the doll -- the line that
 #: leaves all but :data:`ONE_SIDE_STRAY` of them beyond it.
@@ -148,6 +164,73 @@ class HiddenPart:
             if np.count_nonzero(poor & beyond) >= ONE_SIDE * np.count_nonzero(beyond):
                 return True
         return False
+
+
+class WayOut:
+    """The poses a doll went through just before a large part of it went out of view.
+
+    A tail turned away and back, a flap folded over and open again, comes back through
+    the shapes it went away through, in the opposite order. The fits cannot find those
+    shapes from where the part was last held (near its rest shape, open, while the part
+    comes back nearly edge-on: ``samples/folds/tail_turn`` came back 35 px off where the
+    nearest shape the modes can take is 2.5 px off, and took 15 frames to come under a
+    pixel); the poses kept on the way out are starts near them.
+
+    Parameters
+    ----------
+    nodes : callable
+        ``a -> (m, 2)``: the modal mesh of the parameters ``a`` in frame pixels.
+    """
+
+    def __init__(self, nodes):
+        self._nodes = nodes
+        self.forget()
+
+    def forget(self) -> None:
+        self._recent = []
+        #: The poses of the way out, oldest first, or None while no large part is out.
+        self.path = None
+        self._path_nodes = None
+        self._age = 0
+
+    @property
+    def open(self) -> bool:
+        """A large part went out of view at least :data:`WAY_BACK_AFTER` frames ago.
+
+        In the first frames the fit still follows the part going away; a pose from just
+        before that is the last frame's held still, not a way back.
+        """
+        return self.path is not None and self._age >= WAY_BACK_AFTER
+
+    def record(self, a: np.ndarray, share: float, in_view: float) -> None:
+        """After a frame the doll was found in: its pose, share in view and in-view quality."""
+        if self.path is None:
+            if share < RETURN_BELOW:
+                if len(self._recent) >= 2:
+                    self.path = self._recent
+                    self._path_nodes = np.array([self._nodes(p) for p in self.path])
+                    self._age = 0
+                self._recent = []
+            else:
+                self._recent.append(a.copy())
+                del self._recent[:-WAY_OUT_FRAMES]
+        elif share >= WAY_BACK_SHARE and in_view >= WAY_BACK_IN_VIEW:
+            self.forget()
+            self._recent = [a.copy()]
+        else:
+            self._age += 1
+
+    def nearest(self, nodes: np.ndarray, seen: np.ndarray) -> np.ndarray:
+        """Indices into :attr:`path` of the poses nearest a fit, nearest first.
+
+        ``nodes`` (m, 2): the fit's modal mesh; ``seen`` (k,) int: its nodes in view. The
+        part in view is where the fit is sure, so it says how far along the way the doll
+        is: on tail_turn's way back the nearest were the frames of its way out in the
+        opposite order.
+        """
+        gap = self._path_nodes[:, seen] - nodes[seen]
+        rms = np.sqrt((gap**2).sum(axis=2).mean(axis=1))
+        return np.argsort(rms, kind="stable")[:WAY_BACK_NEAREST]
 
 
 def _edge_neighbours(triangles: np.ndarray) -> np.ndarray:
