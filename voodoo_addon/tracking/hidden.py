@@ -1,7 +1,7 @@
 """The part of a doll out of view: kept out while it is hidden, found again when it is back.
 
 A fold, a turn in depth or a hand hides part of a doll for a while. :class:`HiddenPart` is
-what the tracker remembers of it from frame to frame, and the three more fits it asks for
+what the tracker remembers of it from frame to frame, and the four more fits it asks for
 (:meth:`Tracker._hidden_part <voodoo_addon.tracking.tracker.Tracker>`):
 
 - *still hidden*: a frame whose comparison was not close enough to tell covered from
@@ -20,8 +20,7 @@ what the tracker remembers of it from frame to frame, and the three more fits it
 - *back*: after a frame with a large part out of view, the fit from the doll's rest shape
   (:func:`at_rest`) is taken when it brings that part back into view
   (:func:`returned`): a folded part comes back near its rest shape far more often than in
-  the shape it was last seen in.
-
+  the shape it was last seen in;
 - *the way back*: a doll that turns or folds a part away mostly brings it back through
   the shapes it went away through. :class:`WayOut` keeps the poses of the frames before a
   large part went out of view; while it is out, a poor fit is compared with the few of
@@ -286,7 +285,7 @@ def left_out(fit) -> bool:
 
 
 def shows_more(fit, again) -> bool:
-    """The *shown* fit's pose is taken over ``fit``.
+    """The *shown* fit's pose, or a pose of the way back, is taken over ``fit``.
 
     ``again``: that pose judged as any fit is, what is covered there left out again. It
     must explain the whole doll better, and the part it keeps at most :data:`HELD_SLACK`
