@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from voodoo_addon.blob.build import build_blob
-from voodoo_addon.devtools.camera import CAMERAS
+from voodoo_addon.devtools.camera import CAMERAS, degrade
 from voodoo_addon.devtools.clips import LatticeTruth, read_clip, track_ours, truth_errors
 from voodoo_addon.devtools.folds import (
     HELDOUT_FOLDS,
@@ -26,6 +26,7 @@ from voodoo_addon.devtools.folds import (
 from voodoo_addon.devtools.synthetic import Pose, foam_scene, squash_right
 from voodoo_addon.media.images import to_float_rgb
 from voodoo_addon.tracking import Tracker, hidden
+from voodoo_addon.tracking import tracker as tracker_module
 from voodoo_addon.tracking.confidence import Quality
 from voodoo_addon.tracking.fitter import Fit
 from voodoo_addon.tracking.params import ParamLayout, node_positions
@@ -254,6 +255,27 @@ def test_a_fit_that_runs_far_off_keeps_the_pose_it_ran_from():
         assert not lost[i] and err[i] < 6.0, (i, err[i], conf[i])
 
 
+@pytest.mark.slow
+def test_a_doll_followed_unsurely_for_long_is_looked_for_as_a_lost_one(monkeypatch):
+    """``minky_tail_swing`` through the dim camera (seed 0): the furry doll, turned away and
+    back, was lost and then found again in the wrong place (frame 68), where it fitted at
+    about 0.2 -- too poorly to trust, not poorly enough to be lost -- and the mesh stayed
+    there, 32 px off, until frame 91. After :data:`~voodoo_addon.tracking.tracker.STUCK_FRAMES`
+    frames that unsure, the lost doll's search is made and finds it (frame 76), under 3 px
+    from frame 78 on (NumPy 1.26). With NumPy 2.3 the track is lost on frames 64-72 and
+    the lost doll's search finds it at frame 73 either way; the test holds it under 3 px
+    there too, and checks the track without the search only where it was not lost."""
+    clip = next(c for c in HELD_OUT_6 if c.name == "minky_tail_swing")
+    dim = replace(CAMERAS["dim"], seed=0)
+    err, lost, _ = _tracked(clip, 91, dim)
+    assert not lost[73:91].any()
+    assert (err[78:91] < 3.0).all(), err[66:91]
+    monkeypatch.setattr(tracker_module, "STUCK_FRAMES", 10**6)
+    err, lost, _ = _tracked(clip, 91, dim)
+    if not lost[69:91].any():  # found again in the wrong place at frame 68, and kept there
+        assert (err[78:91] > 20.0).all(), err[66:91]
+
+
 def test_a_part_left_out_as_covered_is_pulled_back_when_it_was_only_misaligned(monkeypatch):
     """``plush_flip`` (faint, compared with its detail strengthened): the half that flips
     back comes in a few pixels off, and strengthened detail a few pixels off does not
@@ -392,10 +414,12 @@ def test_a_patch_turned_away_is_fitted_against_its_own_look_too():
             assert err[i] < 3.0, (i, err[i], conf[i])
 
 
-def _tracked(clip, count):
+def _tracked(clip, count, camera=None):
     """The live tracker on a clip's first ``count`` frames: the mean error of the nodes the
-    renderer sees, lost and confidence, per frame."""
+    renderer sees, lost and confidence, per frame. ``camera``: its faults put on first."""
     frames, outline, _ = read_clip(clip)
+    if camera is not None:
+        frames = degrade(frames, camera)
     blob = build_blob(to_float_rgb(frames[0]), outline)
     verts, lost, _, conf = track_ours(frames[:count], blob)
     err, _ = truth_errors(LatticeTruth(clip.truth), blob.vertices, verts)

@@ -50,6 +50,14 @@ FUTILE_DROP = 0.02
 FUTILE_FRAMES = 8
 #: A search made again (:data:`FUTILE_FRAMES`) is taken only when its fit is surer by this.
 AGAIN_GAIN = 0.15
+#: A doll followed for this many frames in a row less surely than a lost one must be found
+#: again (``reacquire_above``) is looked for as a lost one is -- a wide search from the
+#: last good pose, its rest shape and the capture pose -- and again every as many frames
+#: while it stays that poor; that fit is taken when it is surer by :data:`AGAIN_GAIN`. A
+#: furry doll turned away and back through a dim camera was found again in the wrong
+#: place at 0.18 and held there, 32 px off, for 23 frames, while this search found it at
+#: 0.6 from the sixth of them (``samples/heldout_folds6/minky_tail_swing``, dim seed 0).
+STUCK_FRAMES = 8
 #: A fit below this is made once more against the blob's own template, not the look adapted
 #: on the last frame. A furry patch turned away fits its adapted look at 0.33-0.47 where the
 #: look was mixed with the doll's back; against its own template the fit finds the part
@@ -192,6 +200,7 @@ class Tracker:
         self._previous = None
         self._futile = np.inf
         self._futile_age = 0
+        self._unsure = 0  # frames in a row found less surely than a lost doll must be
         self._points_likely = False
         self._stale = 0  # frames in a row that kept the pose held still
         self._local.reset()
@@ -262,11 +271,7 @@ class Tracker:
         following = not was_lost and self.fitter.creases.line is not None
         self.fitter.set_base(self._local.offsets if following else None)
         if was_lost:
-            seeds = [self.last_good, at_rest(self.last_good, self.layout, self.frozen)]
-            home = self._capture_pose()
-            if not any(np.array_equal(home, seed) for seed in seeds):
-                seeds.append(home)
-            fit = self._fit(frame, seeds, wide=True)
+            fit = self._fit(frame, self._lost_seeds(), wide=True)
         else:
             pred = self._predict()
             seeds = [pred] if np.array_equal(pred, self.state) else [pred, self.state]
@@ -296,6 +301,7 @@ class Tracker:
                 fit, its = self._search_features(frame, fit, its, again)
         if not was_lost:
             fit, its = self._hidden_part(frame, fit, its)
+            fit, its = self._unstick(frame, fit, its)
         # No fit finds the doll, or the best one ran far off to fit poorly there: the doll
         # may simply not have moved, and the fits ran off from near it (see
         # ``CoarseToFineFitter.hold``).
@@ -340,6 +346,7 @@ class Tracker:
             self._way.record(a, quality.share, quality.in_view)
             visible = self._hidden.seen(visible, quality.poor)
             self._stale = self._stale + 1 if fit is held else 0
+            self._unsure = self._unsure + 1 if conf < opt.reacquire_above else 0
         else:
             self._local.lose(kept)
             self.lost = True
@@ -350,6 +357,7 @@ class Tracker:
             self._hidden.forget()
             self._way.forget()
             self._stale = 0
+            self._unsure = 0
             warnings.append("The blob is lost: holding its last good pose.")
         self.fitter.set_base(None)
         nodes = self.nodes(params, self._local.offsets)
@@ -482,6 +490,26 @@ class Tracker:
         still = self.fitter.hold(frame, self.state, self._local.template)
         its += still.iterations
         return (fit if still.confidence >= back.confidence else back), its
+
+    def _lost_seeds(self) -> list:
+        """Where a lost doll is looked for: its last good pose, at rest, and the capture pose."""
+        seeds = [self.last_good, at_rest(self.last_good, self.layout, self.frozen)]
+        home = self._capture_pose()
+        if not any(np.array_equal(home, seed) for seed in seeds):
+            seeds.append(home)
+        return seeds
+
+    def _unstick(self, frame, fit: Fit, its: int):
+        """The lost doll's search, when the doll has long been followed unsurely.
+
+        See :data:`STUCK_FRAMES`; (fit, iterations).
+        """
+        if self._unsure < STUCK_FRAMES or fit.in_view >= self.options.reacquire_above:
+            return fit, its
+        self._unsure = 0
+        other = self._fit(frame, self._lost_seeds(), wide=True)
+        its += other.iterations
+        return (other if other.confidence > fit.confidence + AGAIN_GAIN else fit), its
 
     def _capture_pose(self) -> np.ndarray:
         """Where and how the doll was captured, at rest: a lost doll is looked for there too.
