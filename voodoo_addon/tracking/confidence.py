@@ -61,8 +61,7 @@ class Quality:
     in_view : float
         In [0, 1]: the same for the part in view only -- the triangles the fit kept, not
         those it found covered, folded under or turned away -- with the view factor of
-        ``share``, and 0 below :data:`LEAST_VIEW`. The frame's confidence: whether the
-        doll is lost.
+        ``share``, and 0 below :data:`LEAST_VIEW`. The frame's confidence.
     share : float
         Fraction of the textured blob in view.
     poor : (t,) bool or None
@@ -84,6 +83,18 @@ class Quality:
     poor: np.ndarray | None = field(default=None, compare=False, repr=False)
     poor_share: float = 0.0
     left_out_correlation: float = float("nan")
+
+    @property
+    def matched(self) -> float:
+        """``in_view`` without the view factor: how well the part in view matches.
+
+        However much of the doll that part is (0 below :data:`LEAST_VIEW`). Whether the
+        doll is lost: a part hidden lowers the confidence, but never loses the doll while
+        what is in view matches.
+        """
+        if self.share < LEAST_VIEW:
+            return 0.0
+        return self.in_view / min(1.0, self.share / FULL_VIEW)
 
 
 class QualityMeter:

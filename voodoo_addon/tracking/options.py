@@ -59,7 +59,9 @@ class TrackerOptions:
         textured doll no longer pushes the mesh off it, but crumpled paper and fast, blurred
         motion are followed less well (BENCHMARKS.md, *Folds and turns*).
     lost_below : float
-        A frame whose confidence falls below this is lost.
+        A frame is lost when the part of the doll in view matches below this: its
+        confidence without the factor for how much of the doll is in view
+        (``Quality.matched``), so a doll is never lost because part of it is hidden.
     reacquire_above : float
         While lost, a frame must reach this confidence to count as found again.
     predict : bool
