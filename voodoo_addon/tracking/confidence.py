@@ -86,10 +86,10 @@ class Quality:
 
     @property
     def matched(self) -> float:
-        """``in_view`` without the view factor: how well the part in view matches.
+        """How well the part in view matches: ``in_view`` without the view factor.
 
-        However much of the doll that part is (0 below :data:`LEAST_VIEW`). Whether the
-        doll is lost: a part hidden lowers the confidence, but never loses the doll while
+        0 below :data:`LEAST_VIEW`. The tracker decides that the doll is lost on this, not
+        on ``in_view``: a part hidden lowers the confidence, but never loses the doll while
         what is in view matches.
         """
         if self.share < LEAST_VIEW:
