@@ -306,6 +306,8 @@ class Tracker:
             template = None if was_lost else self._local.template
             held = self.fitter.hold(frame, self.state, template, self._hidden.triangles)
             its += held.iterations
+            if not (finds or self._finds(held)) and self._hidden.triangles is None:
+                held, its = self._held_in_part(frame, held, template, its)
             if self._finds(held) and (not finds or held.confidence > fit.confidence):
                 fit = held
         # Before giving up: a wide search from the last good pose, then from features.
@@ -347,7 +349,7 @@ class Tracker:
             self._prev = None
             params = self.last_good.copy()
             visible = None
-            self._hidden.forget()
+            self._hidden.lose()
             self._way.forget()
             self._stale = 0
             warnings.append("The blob is lost: holding its last good pose.")
@@ -457,6 +459,18 @@ class Tracker:
             if returned(fit, back, self._hidden.triangles) and not self._rescues(fit, back):
                 fit = back
         return fit, its
+
+    def _held_in_part(self, frame, held: Fit, template, its: int):
+        """The pose held still, judged on the part in view when the whole doll loses it.
+
+        Its poorly fitting triangles, when they are a large part of the doll on one side of
+        it (``HiddenPart.covered``), are left out as a part turned away. (fit, iterations).
+        """
+        covered = self._hidden.covered(held.quality)
+        if covered is None:
+            return held, its
+        again = self.fitter.hold(frame, self.state, template, covered)
+        return (again if self._finds(again) else held), its + again.iterations
 
     def _way_back(self, frame, fit: Fit, its: int):
         """The pose of the way out that explains the frame best, if it beats ``fit``.
