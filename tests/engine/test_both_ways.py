@@ -279,18 +279,18 @@ def test_both_ways_a_plush_turned_past_edge_on_is_followed_nearer():
 
 @pytest.mark.slow
 def test_both_ways_a_take_that_ends_at_a_wrong_pose_is_found_again_from_its_end():
-    """The same plush redrawn (seed 0): with NumPy 1.26 the forward pass loses 10 frames
-    while most of it is seen, and ends at a wrong pose, never back under a pixel. The
+    """The same plush through the dim camera (seed 1): the forward pass slides 13 px off as
+    the tail turns away, loses 10-15 frames while most of it is seen, and ends at a wrong
+    pose, never back under a pixel (7.65 px with NumPy 1.26, 14.43 with NumPy 2.3). The
     backward pass does not start from such a pose: it searches for the doll on the last
-    frame, finds it, and follows it back through the turn (7.02 -> 1.93 px). With NumPy 2.3
-    the forward pass loses none since a poor fit is made again against the blob's own look
-    (``tracker.OWN_LOOK_BELOW``; 13 before) and recovers in 14 frames, and both ways is
-    still nearer (3.85 -> 2.17 px, in 3 frames)."""
-    camera = replace(CAMERAS["redraw"], seed=0)
+    frame, finds it, and follows it back through the turn (2.06 and 2.50 px, no frame lost).
+    (This was the redrawn plush, seed 0, until the forward pass stopped ending at a wrong
+    pose there: since a doll lost while half turned away is found again by the half in
+    view, it is 1.33 px off and both ways 1.39 with NumPy 1.26.)"""
+    camera = replace(CAMERAS["dim"], seed=1)
     rows = {r["tracker"]: r for r in run_fold_clip(_minky(), ("ours", "both"), camera=camera)}
     both, ours = rows["both"], rows["ours"]
     brief = {k: v for k, v in both.items() if not isinstance(v, list)}
+    assert ours["recovery_frames"] is None, {k: v for k, v in ours.items() if k != "frame_error"}
     assert both["lost_in_third"] == 0 and both["recovery_frames"] is not None, brief
-    assert both["error_px"] < ours["error_px"], brief
-    if ours["recovery_frames"] is None:  # the forward pass ended at a wrong pose
-        assert both["error_px"] < 0.5 * ours["error_px"], brief
+    assert both["error_px"] < 0.5 * ours["error_px"], brief
