@@ -29,7 +29,9 @@ what the tracker remembers of it from frame to frame, and the four more fits it 
   last frame's pose held still.
 
 It also says which triangles a frame's result reports in view (:meth:`HiddenPart.seen`):
-those the fit kept, less the poorly fitting ones in a large region out of view.
+those the fit kept, less the poorly fitting ones in a large region out of view. When the
+doll is lost it keeps which part was out of view (:meth:`HiddenPart.lose`), so that the
+pose held while it is lost is judged on the part that was in view.
 """
 
 from __future__ import annotations
