@@ -130,6 +130,7 @@ class CoarseToFineFitter:
             for lv in levels
         ]
         self._base = None
+        self._no_offsets = np.zeros_like(blob.vertices)  # read only: the modal mesh
         self.pictures = FramePictures(blob.blur_sigma, self.base, len(self.levels), detail)
         # The coarse levels' fits and grid searches of the frame being fitted (see
         # :meth:`_level_fit`), by what they start from; dropped with the frame's pictures.
@@ -173,6 +174,10 @@ class CoarseToFineFitter:
             self.blob.centre,
             self._base if offsets is None else offsets,
         )
+
+    def modal_nodes(self, a: np.ndarray) -> np.ndarray:
+        """The modal mesh (m, 2) of ``a`` in frame pixels: no local offsets, no crease."""
+        return self.nodes(a, self._no_offsets)
 
     @property
     def base_offsets(self) -> np.ndarray | None:
@@ -370,7 +375,7 @@ class CoarseToFineFitter:
         refiner = self.refiner
         step = refiner.step_
         org, box = step.bind(images[step.index], origin)
-        nodes = self.nodes(a, np.zeros_like(self.blob.vertices)) * refiner.level.scale
+        nodes = self.modal_nodes(a) * refiner.level.scale
         return refiner.value(a, org, box, nodes, step.hidden(a), images.judged(step.index))
 
     def crease(self, fit: Fit, offsets: np.ndarray, template=None):

@@ -146,7 +146,7 @@ class Tracker:
         if self._matcher is not None:
             self._matcher.prepare(self._helper)
         self._hidden = HiddenPart(blob.vertices, blob.triangles)
-        self._way = WayOut(self._modal_nodes)
+        self._way = WayOut(self.fitter.modal_nodes)
         self._nothing = np.zeros(len(blob.triangles), bool)  # leave no triangle out
         self._local = LocalStage(self.fitter, self.layout, opt)
         self.set_frozen(frozen)
@@ -410,12 +410,8 @@ class Tracker:
 
     def _leap(self, fit: Fit) -> float:
         """How far the fit's modal mesh lies from the last frame's, in RMS blob radii."""
-        moved = self._modal_nodes(fit.params) - self._modal_nodes(self.state)
+        moved = self.fitter.modal_nodes(fit.params) - self.fitter.modal_nodes(self.state)
         return float(np.sqrt((moved**2).sum(axis=1).mean())) / self.blob.length
-
-    def _modal_nodes(self, a: np.ndarray) -> np.ndarray:
-        """The modal mesh (m, 2) of ``a`` in frame pixels: no local offsets, no crease."""
-        return self.fitter.nodes(a, np.zeros_like(self.blob.vertices))
 
     def _fit(
         self, frame, seeds, wide=False, checked=False, covered=None, adapted=True, trial=False
@@ -487,7 +483,7 @@ class Tracker:
         if fit.pictures is None or fit.visible is None or not np.any(fit.visible):
             return fit, its
         seen = np.unique(self.blob.triangles[np.asarray(fit.visible, bool)])
-        here = self._modal_nodes(fit.params)
+        here = self.fitter.modal_nodes(fit.params)
         poses = [self._keep_frozen(self._way.path[j].copy()) for j in self._way.nearest(here, seen)]
         looks = [self.fitter.glance(fit, pose) for pose in poses]
         pose = poses[int(np.argmax(looks))]
