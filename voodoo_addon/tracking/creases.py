@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .evaluation import evaluate
+from .evaluation import residuals
 
 #: Directions of the candidate lines' normals (radians), and where the lines cross the
 #: doll: offsets from its centre along the normal, in RMS radii.
@@ -87,7 +87,7 @@ class CreaseSearch:
         shape = ref.bare(a) + offsets
         amounts = NEAR_AMOUNTS if self.line is not None else AMOUNTS
         sub = None if template is None else np.ascontiguousarray(template[self.rows])
-        scored = []
+        tried, nodes = [], []
         for p, n in self.lines(shape):
             side = np.maximum((shape - p) @ n, 0.0)[:, None] * n  # (m, 2)
             if not side.any():
@@ -97,14 +97,15 @@ class CreaseSearch:
                 tau = ref.guard.shape_step(shape, d * side)
                 if tau < 1.0:
                     u = offsets + tau * d * side
-                nodes = ref._nodes(a, u) * self.level.scale
-                ev = evaluate(
-                    self.probe, a, org, box, step.backend, step.norm, step.layout,
-                    step.outlier_factor, step.floor, nodes, None,
-                    np.zeros(self.level.n_triangles, bool), sub, step.cover,
-                )  # fmt: skip
-                if ev is not None:
-                    scored.append((ev.residual, u, (p, n)))
+                tried.append((u, (p, n)))
+                nodes.append(ref._nodes(a, u) * self.level.scale)
+        if not tried:
+            return None
+        found = residuals(
+            self.probe, a, nodes, org, box, step.backend, step.norm, step.layout,
+            cover=step.cover, template=sub,
+        )  # fmt: skip
+        scored = [(r, u, line) for r, (u, line) in zip(found, tried, strict=True) if r < np.inf]
         if not scored:
             return None
         scored.sort(key=lambda item: item[0])

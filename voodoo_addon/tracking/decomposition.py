@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .evaluation import Evaluation, evaluate
+from .evaluation import Evaluation, evaluate, residuals
 from .folding import HIDE_AREA, FoldGuard
 from .level import Level
 from .norms import RobustNorm
@@ -202,6 +202,26 @@ class DifferenceDecomposition:
             outliers,
             self.pixel_limit,
         )
+
+    def residuals(self, poses, org, box, least: float = 0.5) -> np.ndarray:
+        """The residual of :meth:`evaluate` at each of ``poses`` (K,), to rank them.
+
+        Inf where the evaluation is None or uses fewer than ``least`` of the level's pixels.
+        The poses differ in their translation only. A coarse level ranks them all at once
+        (:func:`~.evaluation.residuals`, the same numbers); the finest, which tests
+        occlusion, one by one.
+        """
+        if self.level.finest:
+            evs = [self.evaluate(a, org, box) for a in poses]
+            least *= len(self.level)
+            return np.array(
+                [np.inf if ev is None or np.count_nonzero(ev.use) < least else ev.residual
+                 for ev in evs]
+            )  # fmt: skip
+        return residuals(
+            self.level, poses[0], self.level.translated_nodes(poses), org, box, self.backend,
+            self.norm, self.layout, self.hidden(poses[0]), self.cover, None, least,
+        )  # fmt: skip
 
     def fit(
         self,

@@ -294,6 +294,93 @@ def sample(level: Level, a, origin, box, backend: WarpBackend, nodes, cover=None
     return backend.sample(level.geometry, nodes - origin, pos), valid, pos
 
 
+def residuals(
+    level: Level,
+    a: np.ndarray,
+    nodes,
+    origin: np.ndarray,
+    box: np.ndarray,
+    backend: WarpBackend,
+    norm: RobustNorm,
+    layout: ParamLayout,
+    hidden: np.ndarray | None = None,
+    cover: Cover | None = None,
+    template: np.ndarray | None = None,
+    least: float = 0.0,
+) -> np.ndarray:
+    """:func:`evaluate`'s residual at many meshes at once, to rank them.
+
+    For each of ``nodes`` ((m, 2) level coordinates), the same number as
+    ``evaluate(level, a, origin, box, ..., nodes, hidden, no_triangle, template,
+    cover).residual``: nothing tested for occlusion (as on a coarse level, or with the
+    occluded triangles given as none), ``a`` giving the global lighting. Inf where that
+    evaluation would be None or use fewer than ``least`` of the level's pixels. The frame is
+    sampled at every mesh in one call (:meth:`.warp.WarpBackend.sample_many`), and nothing
+    is kept of the comparisons but their residuals: half the time or less of as many
+    evaluations.
+
+    Returns
+    -------
+    (K,) float64
+    """
+    n = len(level)
+    out = np.full(len(nodes), np.inf)
+    places, valids = [], []
+    for v in nodes:
+        pos = level.positions(a, v)
+        pos -= origin[:, None]
+        valid = np.empty(n, bool)
+        on = kernels.on_picture(pos, box[0], box[1], valid)
+        if on == n:
+            valid = None
+        if cover is not None:
+            free = cover.free(pos[0, :n] + origin[0], pos[1, :n] + origin[1], level.scale)
+            if free is not None:
+                valid = free if valid is None else valid & free
+                on = np.count_nonzero(valid)
+        places.append(pos)
+        valids.append(False if on < 0.15 * n else valid)  # False: evaluate() gives None
+    keep = [k for k, valid in enumerate(valids) if valid is not False]
+    if not keep:
+        return out
+    found = backend.sample_many(
+        level.geometry, [nodes[k] - origin for k in keep], [places[k] for k in keep]
+    )
+    compare, whole = None, None
+    for k, samples in zip(keep, found, strict=True):
+        valid = valids[k]
+        if valid is None and whole is not None:
+            mask, use, n_mask = whole  # every pixel on the picture: as the last such mesh
+        else:
+            mask, use, n_mask = _compared(level, valid, hidden)
+            if valid is None:
+                whole = mask, use, n_mask
+        if use is not level.all_valid and np.count_nonzero(use) < max(least, 0.05) * n:
+            continue
+        if compare is None:
+            compare = _Comparison(level, layout, norm, a, samples, template)
+        else:
+            compare.samples = np.ascontiguousarray(samples, dtype=np.float32)
+        compare(use if level.patches is not None else mask, correlate=False)
+        out[k] = compare.capped / max(n_mask, 1)
+    return out
+
+
+def _compared(level: Level, valid: np.ndarray | None, hidden: np.ndarray | None):
+    """The pixels :func:`evaluate` compares on a coarse level (mask, use, mask's count)."""
+    if valid is None:
+        valid, count = level.all_valid, level.triangle_size
+    else:
+        count = np.empty(level.n_triangles)
+        kernels.count_per_triangle(valid, level.triangle, count)
+    mask = valid if hidden is None else _of_triangles(level, valid, ~hidden)
+    seen = (count >= 0.5 * level.triangle_size) & (level.triangle_size > 0)
+    if hidden is not None:
+        seen &= ~hidden
+    use = _used(level, mask, seen.astype(np.float64))
+    return mask, use, len(mask) if mask is level.all_valid else np.count_nonzero(mask)
+
+
 class Cover:
     """Frame pixels where something known is in front of the blob (another doll).
 

@@ -458,17 +458,18 @@ class CoarseToFineFitter:
         offsets = np.arange(-SEARCH_RADIUS, SEARCH_RADIUS + 1, SEARCH_STEP) / scale
         best, best_res, its = seeds[0], np.inf, 0
         for seed in seeds:
+            poses = []
             for dy in offsets:
                 for dx in offsets:
                     a = seed.copy()
                     a[0] += dx
                     a[1] += dy
-                    ev: Evaluation | None = top.evaluate(a, org, box)
-                    its += 1
-                    if ev is None or np.count_nonzero(ev.use) < 0.5 * len(top.level):
-                        continue
-                    if ev.residual < best_res:
-                        best, best_res = a, ev.residual
+                    poses.append(a)
+            res = top.residuals(poses, org, box)
+            its += len(poses)
+            k = int(np.argmin(res))
+            if res[k] < best_res:
+                best, best_res = poses[k], res[k]
         return best.copy(), its
 
     def _plausible(self, a: np.ndarray) -> bool:

@@ -15,7 +15,7 @@ import numpy as np
 from ..blob.mesh import TriMesh, rasterize
 from ..blob.model import ActiveBlob
 from . import kernels
-from .params import ParamLayout, node_positions
+from .params import ParamLayout, node_positions, placed_shape
 from .photometry import Patches, group_triangles
 from .pictures import emphasise
 from .warp import WarpBackend, WarpGeometry, padded
@@ -191,6 +191,21 @@ class Level:
         return node_positions(
             shifted, self.layout, self.vertices, self.modes, self.centre, self.offsets
         )
+
+    def translated_nodes(self, poses) -> list[np.ndarray]:
+        """:meth:`nodes` of each pose: the same numbers.
+
+        The shape is made once for poses that differ in their translation only.
+        """
+        out, shapes = [], {}
+        for a in poses:
+            key = a[2:].tobytes()
+            if key not in shapes:
+                shapes[key] = placed_shape(
+                    a, self.layout, self.vertices, self.modes, self.centre, self.offsets
+                )
+            out.append(self.centre + a[:2] * self.scale + shapes[key])
+        return out
 
     # ------------------------------------------------------------------ basis
 

@@ -136,12 +136,21 @@ def node_positions(
     offsets : (m, 2) float64, optional
         Node offsets of the local stage, in the rest frame (see :mod:`.refine`).
     """
+    return centre + a[:2] + placed_shape(a, layout, vertices, modes, centre, offsets)
+
+
+def placed_shape(a: np.ndarray, layout: ParamLayout, vertices, modes, centre, offsets=None):
+    """:func:`node_positions` less ``centre + a[:2]``: the shape turned and scaled (m, 2).
+
+    Poses that differ in their translation only share it (``node_positions`` adds the
+    translation last, so the nodes are the same numbers either way).
+    """
     local = vertices - centre
     if offsets is not None:
         local = local + offsets
     if layout.n_modes:
         local = local + (modes @ a[layout.modes]).reshape(-1, 2)
-    return centre + a[:2] + np.exp(a[3]) * local @ rotation(a[2]).T
+    return np.exp(a[3]) * local @ rotation(a[2]).T
 
 
 def compose(a: np.ndarray, delta: np.ndarray, layout: ParamLayout) -> np.ndarray:

@@ -79,6 +79,10 @@ class WarpBackend(abc.ABC):
             Bilinear samples; points off the picture read the nearest border pixel.
         """
 
+    def sample_many(self, geometry: WarpGeometry, nodes, positions) -> list[np.ndarray]:
+        """:meth:`sample` of each of several warps (lists of ``nodes`` and ``positions``)."""
+        return [self.sample(geometry, v, p) for v, p in zip(nodes, positions, strict=True)]
+
     def close(self) -> None:  # noqa: B027 - optional hook
         """Release resources (GPU textures, ...)."""
 
@@ -97,6 +101,22 @@ class CpuWarp(WarpBackend):
 
     def sample(self, geometry: WarpGeometry, nodes, positions: np.ndarray) -> np.ndarray:
         return remap_points(self._image, positions)[: len(geometry.coords)]
+
+    def sample_many(self, geometry: WarpGeometry, nodes, positions) -> list[np.ndarray]:
+        # One remap of every warp's points, each folded as remap_points folds it: the same
+        # bilinear samples, in one call.
+        n_pad = positions[0].shape[1]
+        rows = _rows(n_pad)
+        maps = np.stack(positions).reshape(len(positions), 2, rows, n_pad // rows)
+        out = cv2.remap(
+            self._image,
+            np.ascontiguousarray(maps[:, 0]).reshape(-1, n_pad // rows),
+            np.ascontiguousarray(maps[:, 1]).reshape(-1, n_pad // rows),
+            interpolation=cv2.INTER_LINEAR,
+            borderMode=cv2.BORDER_REPLICATE,
+        ).reshape(len(positions), n_pad, -1)
+        n = len(geometry.coords)
+        return [samples[:n] for samples in out]
 
 
 def _rows(n: int) -> int:
