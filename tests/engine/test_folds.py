@@ -144,6 +144,36 @@ def test_a_crease_search_presses_the_far_side_of_a_fold(foam, amount):
     assert not folded_triangles(nodes, blob.vertices, blob.triangles).any()
 
 
+def test_a_crease_that_cannot_reach_the_confidence_needed_stops_after_two_steps(foam, monkeypatch):
+    """The best crease candidate is refined as the local stage is: a refinement still far
+    from what the caller needs after JUDGED_AFTER steps makes no more and gives nothing;
+    with a need it meets, it gives the crease found without one."""
+    from voodoo_addon.tracking import refine as refine_module
+
+    scene, rest, blob = foam
+    tracker = Tracker(blob)
+    fitter = tracker.fitter
+    frame = squash_right(rest, scene.centre, scene.length, 0.5)
+    fit = fitter.fit(frame, [tracker.layout.identity()], False, None, checked=True)
+    none = np.zeros_like(blob.vertices)
+    steps = []
+    evaluate = fitter.refiner.sub_step.evaluate
+
+    def counting(*args, **kwargs):
+        steps.append(1)
+        return evaluate(*args, **kwargs)
+
+    monkeypatch.setattr(fitter.refiner.sub_step, "evaluate", counting)
+    free = fitter.crease(fit, none)
+    assert free is not None and len(steps) > refine_module.JUDGED_AFTER + 1
+    met = fitter.crease(fit, none, needed=free[1].value - 0.01)
+    np.testing.assert_array_equal(met[0], free[0])
+    steps.clear()
+    far = free[1].value + refine_module.STILL_TO_GAIN + 0.01
+    assert fitter.crease(fit, none, needed=far) is None
+    assert len(steps) == refine_module.JUDGED_AFTER + 1
+
+
 # ----------------------------------------------------------------------- the fold clips
 
 

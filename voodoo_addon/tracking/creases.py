@@ -73,12 +73,14 @@ class CreaseSearch:
             out += [(centre + t * self.radius * n, n) for t in CROSSINGS]
         return out
 
-    def search(self, a, pictures, offsets, template=None, covered=None):
+    def search(self, a, pictures, offsets, template=None, covered=None, needed=None):
         """The best crease offsets on a fit's frame, refined; None when none helps.
 
         ``a`` the modal fit, ``pictures`` its (FramePyramid, origin), ``offsets`` (m, 2)
         the local stage's so far (rest frame). Returns (offsets, Quality, Evaluation,
-        line) of the best refined candidate.
+        line) of the best refined candidate. ``needed``: the confidence below which the
+        caller will not take a crease; a refinement still far from it after two steps
+        stops there, as the local stage's does (``LocalRefiner.run``).
         """
         images, origin = pictures
         ref = self.refiner
@@ -111,7 +113,7 @@ class CreaseSearch:
         scored.sort(key=lambda item: item[0])
         best = None
         for _, u, line in scored[:REFINED]:
-            out = ref.run(a, 0.0, pictures, u, template, covered)
+            out = ref.run(a, 0.0, pictures, u, template, covered, needed)
             if out is not None and (best is None or out[1].value > best[1].value):
                 best = (*out, line)
         return best

@@ -378,12 +378,13 @@ class CoarseToFineFitter:
         nodes = self.modal_nodes(a) * refiner.level.scale
         return refiner.value(a, org, box, nodes, step.hidden(a), images.judged(step.index))
 
-    def crease(self, fit: Fit, offsets: np.ndarray, template=None):
+    def crease(self, fit: Fit, offsets: np.ndarray, template=None, needed=None):
         """Crease offsets from ``offsets`` (m, 2) on a fit's frame (see :mod:`.creases`).
 
-        Returns (offsets, quality, evaluation, line), or None.
+        Returns (offsets, quality, evaluation, line), or None (also when the offsets cannot
+        reach the confidence ``needed``).
         """
-        return self.creases.search(fit.params, fit.pictures, offsets, template, fit.covered)
+        return self.creases.search(fit.params, fit.pictures, offsets, template, fit.covered, needed)
 
     def _level_fit(self, step: DifferenceDecomposition, images, origin, a, cap=None, bail=None):
         """``step``'s fit from ``a`` on the frame's ``images``.

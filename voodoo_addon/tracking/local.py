@@ -112,8 +112,9 @@ class LocalStage:
         if creases.line is None and quality.value >= self._crease_futile:
             return quality, visible, ev
         base = start if self.offsets is None else self.offsets
-        found = self.fitter.crease(fit, base, self.template)
-        if found is None or found[1].value < quality.value + REFINE_GAIN:
+        needed = quality.value + REFINE_GAIN
+        found = self.fitter.crease(fit, base, self.template, needed)
+        if found is None or found[1].value < needed:
             # No crease helps: none is looked for again until the fit gets worse.
             self._crease_futile = quality.value - CREASE_DROP
             creases.forget()
