@@ -146,3 +146,31 @@ def test_translated_poses_share_their_shape_and_give_the_same_nodes(tracked):
     poses.append(turned)
     for got, a in zip(level.translated_nodes(poses), poses, strict=True):
         np.testing.assert_array_equal(got, level.nodes(a))
+
+
+def test_the_grid_search_keeps_the_first_best_pose_and_never_one_without_a_number(
+    tracked, monkeypatch
+):
+    """Across its starts the grid keeps the first pose of least residual, as comparing them
+    one by one did; a residual that is not a number is never the best."""
+    tracker, frame = tracked
+    fitter = tracker.fitter
+    step = fitter.levels[-1]
+    ranked = iter(
+        [
+            np.array([np.nan, 3.0, 2.0, 2.0] + [5.0] * 21),
+            np.array([2.0, np.nan, 1.5] + [1.5] * 22),
+        ]
+    )
+    monkeypatch.setattr(step, "residuals", lambda poses, org, box: next(ranked))
+    fitter.forget()
+    images, origin = fitter.pyramid(frame, [tracker.state], False)
+    seeds = [tracker.state.copy(), tracker.state.copy()]
+    seeds[1][0] += 40.0
+    best, evaluations = fitter._grid_search(images, origin, seeds)
+    assert evaluations == 50
+    offsets = np.arange(-6, 7, 3) / step.level.scale
+    want = seeds[1].copy()
+    want[0] += offsets[2]  # the third pose of the second start: dy first, then dx
+    want[1] += offsets[0]
+    np.testing.assert_array_equal(best, want)

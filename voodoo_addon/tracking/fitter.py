@@ -466,9 +466,9 @@ class CoarseToFineFitter:
                     a[0] += dx
                     a[1] += dy
                     poses.append(a)
-            res = top.residuals(poses, org, box)
+            res = np.nan_to_num(top.residuals(poses, org, box), nan=np.inf)  # NaN: never best
             its += len(poses)
-            k = int(np.argmin(res))
+            k = int(np.argmin(res))  # the first of the best, as one by one
             if res[k] < best_res:
                 best, best_res = poses[k], res[k]
         return best.copy(), its
