@@ -276,6 +276,21 @@ def sample(level: Level, a, origin, box, backend: WarpBackend, nodes, cover=None
     instead of the one bound to ``backend`` (the same region of the frame, shown otherwise).
     """
     n = len(level)
+    pos, valid, on = _placed(level, a, origin, box, nodes, cover)
+    if on < 0.15 * n:
+        return None
+    if picture is not None:
+        return remap_points(picture, pos)[:n], valid, pos
+    return backend.sample(level.geometry, nodes - origin, pos), valid, pos
+
+
+def _placed(level: Level, a, origin, box, nodes, cover):
+    """Where the level's pixels land on the picture under ``nodes``, and which are on it.
+
+    Returns (positions (2, n_pad), valid (n,) bool or None when every pixel is on the
+    picture and not covered, how many are). The arguments are :func:`sample`'s.
+    """
+    n = len(level)
     pos = level.positions(a, nodes)
     pos -= origin[:, None]
     valid = np.empty(n, bool)
@@ -287,11 +302,7 @@ def sample(level: Level, a, origin, box, backend: WarpBackend, nodes, cover=None
         if free is not None:
             valid = free if valid is None else valid & free
             on = np.count_nonzero(valid)
-    if on < 0.15 * n:
-        return None
-    if picture is not None:
-        return remap_points(picture, pos)[:n], valid, pos
-    return backend.sample(level.geometry, nodes - origin, pos), valid, pos
+    return pos, valid, on
 
 
 def residuals(
@@ -327,17 +338,7 @@ def residuals(
     out = np.full(len(nodes), np.inf)
     places, valids = [], []
     for v in nodes:
-        pos = level.positions(a, v)
-        pos -= origin[:, None]
-        valid = np.empty(n, bool)
-        on = kernels.on_picture(pos, box[0], box[1], valid)
-        if on == n:
-            valid = None
-        if cover is not None:
-            free = cover.free(pos[0, :n] + origin[0], pos[1, :n] + origin[1], level.scale)
-            if free is not None:
-                valid = free if valid is None else valid & free
-                on = np.count_nonzero(valid)
+        pos, valid, on = _placed(level, a, origin, box, v, cover)
         places.append(pos)
         valids.append(False if on < 0.15 * n else valid)  # False: evaluate() gives None
     keep = [k for k, valid in enumerate(valids) if valid is not False]
