@@ -327,7 +327,7 @@ def residuals(
     occluded triangles given as none), ``a`` giving the global lighting. Inf where that
     evaluation would be None or use fewer than ``least`` of the level's pixels. The frame is
     sampled at every mesh in one call (:meth:`.warp.WarpBackend.sample_many`), and nothing
-    is kept of the comparisons but their residuals: half the time or less of as many
+    is kept of the comparisons but their residuals: 40-70% of the time of as many
     evaluations.
 
     Returns
