@@ -273,12 +273,15 @@ class DifferenceDecomposition:
         anchor = (a if anchor is None else anchor)[solver.active]
         nodes_a = self._nodes(a)
         its = 0
-        full = level.index == 0  # level nodes are frame nodes: reuse them
+        # The level's nodes are the frame's times its scale, a power of two: the same numbers
+        # as ``level.nodes(a)`` (every product and sum scales exactly), for one product.
+        scale = level.scale
         # Found once per fit, on the first evaluation close enough to tell (unless given):
         # the occluded triangles and the outlying pixels of the others.
         occluded, outliers = covered, None
         for _ in range(cap or stopping.max_iterations):
-            ev = self.evaluate(a, org, box, nodes_a if full else None, occluded, template, outliers)
+            nodes = nodes_a if scale == 1.0 else nodes_a * scale
+            ev = self.evaluate(a, org, box, nodes, occluded, template, outliers)
             its += 1
             if ev is None:
                 break

@@ -21,6 +21,7 @@ through 360 degrees or change scale 4x without ever leaving the linear range of 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -43,6 +44,9 @@ PHOTOMETRIC = {
 class ParamLayout:
     """Where each parameter lives in ``a``.
 
+    Its derived figures (``names``, ``modes``, ...) are made once, on first reading: the
+    tracker reads them a few dozen times in every iteration.
+
     Parameters
     ----------
     mode_labels : tuple of str
@@ -53,28 +57,28 @@ class ParamLayout:
     mode_labels: tuple
     photometric: str = "channel"
 
-    @property
+    @cached_property
     def n_modes(self) -> int:
         return len(self.mode_labels)
 
-    @property
+    @cached_property
     def names(self) -> tuple:
         return SIMILARITY + tuple(self.mode_labels) + PHOTOMETRIC[self.photometric]
 
-    @property
+    @cached_property
     def size(self) -> int:
         return len(self.names)
 
-    @property
+    @cached_property
     def modes(self) -> slice:
         return slice(4, 4 + self.n_modes)
 
-    @property
+    @cached_property
     def brightness(self) -> slice:
         n = len(PHOTOMETRIC[self.photometric]) // 2
         return slice(4 + self.n_modes, 4 + self.n_modes + n)
 
-    @property
+    @cached_property
     def contrast(self) -> slice:
         n = len(PHOTOMETRIC[self.photometric]) // 2
         return slice(4 + self.n_modes + n, 4 + self.n_modes + 2 * n)
