@@ -4,7 +4,8 @@ The grid search of the coarse level and the crease candidates of the local stage
 dozens of warps of one frame and keep only which fits best. They are ranked in one pass
 (``evaluation.residuals``); these tests hold that pass to the numbers the evaluations
 themselves give, on and partly off the picture, behind a known cover, with compressed
-triangles and with an adapted look.
+triangles and with an adapted look. A level's fit reads its nodes as the frame nodes times
+the level's scale; one test holds those to ``Level.nodes`` too.
 """
 
 from __future__ import annotations
@@ -146,6 +147,29 @@ def test_translated_poses_share_their_shape_and_give_the_same_nodes(tracked):
     poses.append(turned)
     for got, a in zip(level.translated_nodes(poses), poses, strict=True):
         np.testing.assert_array_equal(got, level.nodes(a))
+
+
+@pytest.mark.parametrize("based", [False, True])
+def test_every_levels_nodes_are_the_frame_nodes_times_its_scale_to_the_bit(tracked, based):
+    """A level's fit samples at the frame nodes times the level's scale (a power of two), not
+    at ``Level.nodes``: the same numbers, for bent, turned, scaled poses and on top of base
+    offsets (a crease being followed)."""
+    tracker, _ = tracked
+    fitter = tracker.fitter
+    rng = np.random.default_rng(7)
+    base = rng.normal(0.0, 3.0, tracker.blob.vertices.shape) if based else None
+    fitter.set_base(base)
+    try:
+        for _ in range(40):
+            a = tracker.state + rng.normal(0.0, 1.0, tracker.state.shape) * rng.choice(
+                [0.01, 0.3, 3.0]
+            )
+            for step in fitter.levels:
+                scale = step.level.scale
+                assert np.log2(scale) == round(np.log2(scale))
+                np.testing.assert_array_equal(step._nodes(a) * scale, step.level.nodes(a))
+    finally:
+        fitter.set_base(None)
 
 
 def test_the_grid_search_keeps_the_first_best_pose_and_never_one_without_a_number(
