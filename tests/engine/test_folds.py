@@ -118,6 +118,43 @@ def test_a_folded_half_that_springs_back_at_once_is_found_again(foam):
     assert back.visible.all() and back.confidence > 0.95
 
 
+def test_a_rest_shape_fit_that_falls_short_on_the_coarse_levels_goes_no_finer(foam):
+    """The fit from the rest shape (a hidden part may be back) stops after the coarse levels
+    when their pose glances below the confidence it must reach: no finest-level iteration,
+    no quality, its coarse iterations counted. Reachable, it is the fit made without the
+    bar, to the bit."""
+    scene, rest, blob = foam
+    tracker = Tracker(blob)
+    for a in list(np.linspace(0.0, 0.95, 8)) + [0.95] * 3:
+        frame = squash_right(rest, scene.centre, scene.length, a)
+        tracker.track(frame)
+    fitter = tracker.fitter
+    start = hidden.at_rest(tracker.state, tracker.layout)
+    finest = []
+    level_fit = fitter._level_fit
+
+    def spy(step, *args, **kwargs):
+        finest.append(step.level.finest)
+        return level_fit(step, *args, **kwargs)
+
+    fitter._level_fit = spy
+
+    def trial(worth):
+        finest.clear()
+        fitter.forget()
+        return fitter.fit(frame, [start], False, None, tracker.state, trial=True, worth=worth)
+
+    short = trial(2.0)  # no glance reaches it
+    assert short.quality is None and short.confidence == 0.0
+    assert short.iterations > 0 and finest and not any(finest)
+    free = trial(None)
+    assert any(finest) and free.quality is not None
+    reached = trial(-1.0)
+    assert any(finest)
+    np.testing.assert_array_equal(reached.params, free.params)
+    assert reached.confidence == free.confidence and reached.iterations == free.iterations
+
+
 @pytest.mark.parametrize("amount", [0.3, 0.5])
 def test_a_crease_search_presses_the_far_side_of_a_fold(foam, amount):
     """The right half pressed towards the centre line by 30% / 50%: the modes alone leave

@@ -263,6 +263,7 @@ class CoarseToFineFitter:
         checked: bool = False,
         covered=None,
         trial: bool = False,
+        worth: float | None = None,
     ) -> Fit:
         """Register from the best of ``seeds`` (the first is the preferred start).
 
@@ -275,7 +276,9 @@ class CoarseToFineFitter:
         ``trial``: a start from a fit's own pose, taken only if it beats that fit (the
         rest shape, when a hidden part may be back; the fit's own pose with nothing left
         out, when a part left out may only be misaligned): one descent, at most
-        :data:`TRIAL_ITERATIONS` at the finest level, no search over translations.
+        :data:`TRIAL_ITERATIONS` at the finest level, no search over translations; with
+        ``worth``, a trial whose coarse levels end at a pose that :meth:`glance` puts below
+        that confidence goes no further (its fit then finds nothing).
 
         1. Unless searching wide, the finest level is tried first from ``seeds[0]``: when
            the prediction was good that is all a frame needs.
@@ -301,7 +304,9 @@ class CoarseToFineFitter:
         its = 0
         best = None
         if trial:
-            best = self._descend(images, origin, seeds[0], wide, fine_cap=TRIAL_ITERATIONS)
+            best = self._descend(
+                images, origin, seeds[0], wide, fine_cap=TRIAL_ITERATIONS, worth=worth
+            )
             its = best.iterations
         elif not wide and len(self.levels) > 1:
             res = self._level_fit(self.levels[0], images, origin, seeds[0], bail=limit)
@@ -371,7 +376,11 @@ class CoarseToFineFitter:
         number as :meth:`hold` gives, for a fifth of its time and with no occlusion test,
         so many poses can be ranked and only the best one judged in full.
         """
-        images, origin = fit.pictures
+        return self._glance(fit.pictures, a)
+
+    def _glance(self, pictures, a: np.ndarray) -> float:
+        """:meth:`glance` on the frame's pictures ``(images, origin)``."""
+        images, origin = pictures
         refiner = self.refiner
         step = refiner.step_
         org, box = step.bind(images[step.index], origin)
@@ -419,13 +428,20 @@ class CoarseToFineFitter:
             self._coarse[key] = (images, res)  # the pictures kept: their id stays theirs
         return res
 
-    def _descend(self, images, origin, start, wide: bool, fine_cap=None) -> LevelFit:
-        """Coarse to fine from ``start``; the finest level's fit (``fine_cap``: its cap)."""
+    def _descend(self, images, origin, start, wide: bool, fine_cap=None, worth=None) -> LevelFit:
+        """Coarse to fine from ``start``; the finest level's fit (``fine_cap``: its cap).
+
+        ``worth``: the confidence the coarse levels' pose must :meth:`glance` at for the
+        finest level to be fitted; below it the descent gives up (no evaluation).
+        """
         a, its = start.copy(), 0
         for step in reversed(self.levels):
             cap = self.options.max_iterations * (3 if wide and step.index > self.base else 1)
-            if fine_cap is not None and step.level.finest:
-                cap = min(cap, fine_cap)
+            if step.level.finest:
+                if fine_cap is not None:
+                    cap = min(cap, fine_cap)
+                if worth is not None and self._glance((images, origin), a) < worth:
+                    return LevelFit(start, None, its)
             res = self._level_fit(step, images, origin, a, cap=cap)
             its += res.iterations
             if res.evaluation is None:

@@ -20,6 +20,7 @@ from .evaluation import Cover
 from .fitter import CoarseToFineFitter, Fit
 from .hidden import (
     HELD_SLACK,
+    RETURN_SLACK,
     HiddenPart,
     WayOut,
     at_rest,
@@ -414,13 +415,30 @@ class Tracker:
         return float(np.sqrt((moved**2).sum(axis=1).mean())) / self.blob.length
 
     def _fit(
-        self, frame, seeds, wide=False, checked=False, covered=None, adapted=True, trial=False
+        self,
+        frame,
+        seeds,
+        wide=False,
+        checked=False,
+        covered=None,
+        adapted=True,
+        trial=False,
+        worth=None,
     ) -> Fit:
         """The fitter's fit; ``adapted``: against the look adapted on the last frame."""
         anchor = None if self.lost else self.state
         template = self._local.template if adapted and not wide else None
         return self.fitter.fit(
-            frame, seeds, wide, self._last_residual, anchor, template, checked, covered, trial
+            frame,
+            seeds,
+            wide,
+            self._last_residual,
+            anchor,
+            template,
+            checked,
+            covered,
+            trial,
+            worth,
         )
 
     @staticmethod
@@ -450,7 +468,7 @@ class Tracker:
             fit, its = self._way_back(frame, fit, its)
         if self._hidden.triangles is not None and fit.confidence < opt.refine_below:
             rest = at_rest(fit.params, self.layout, self.frozen)
-            back = self._fit(frame, [rest], trial=True)
+            back = self._fit(frame, [rest], trial=True, worth=fit.confidence - RETURN_SLACK)
             its += back.iterations
             if returned(fit, back, self._hidden.triangles) and not self._rescues(fit, back):
                 fit = back
