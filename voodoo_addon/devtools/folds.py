@@ -3,7 +3,7 @@
 Part ``folds`` of the benchmark. Every render under ``samples/folds`` (a sheet squeezed until
 it folds in half, turned edge-on by one end, folded over onto itself; see
 ``samples/folds/README.md``), and every held-out one under ``samples/heldout_folds`` to
-``samples/heldout_folds6`` (the same kinds of motion in other paint and motion, rendered
+``samples/heldout_folds7`` (the same kinds of motion in other paint and motion, rendered
 after the tracker's last change and never tuned on), is tracked by ours, KLT and DIS on the
 same decoded frames and judged on what the issue asks of a fold:
 
@@ -75,6 +75,10 @@ HELDOUT_FOLDS5 = SAMPLES / "heldout_folds5"
 #: A sixth, likewise: a bag folded back in half fast under two hands, a plush lifted by a
 #: corner about a falling axis, a sheet's bottom part folded up in two steps.
 HELDOUT_FOLDS6 = SAMPLES / "heldout_folds6"
+#: A seventh, likewise: a bag's right part folded back under two hands and snapped open, a
+#: plush turned away by a corner about a rising axis, a board's corner folded over twice; each
+#: at another distance from the camera.
+HELDOUT_FOLDS7 = SAMPLES / "heldout_folds7"
 HELDOUT_ROOTS = (
     HELDOUT_FOLDS,
     HELDOUT_FOLDS2,
@@ -82,6 +86,7 @@ HELDOUT_ROOTS = (
     HELDOUT_FOLDS4,
     HELDOUT_FOLDS5,
     HELDOUT_FOLDS6,
+    HELDOUT_FOLDS7,
 )
 #: The doll counts as in view while at least this share of its true lattice is seen.
 THIRD = 1.0 / 3.0
