@@ -17,6 +17,7 @@ from voodoo_addon.devtools.folds import (
     HELDOUT_FOLDS4,
     HELDOUT_FOLDS5,
     HELDOUT_FOLDS6,
+    HELDOUT_FOLDS7,
     RETURNED,
     fold_clips,
     nearest_modal,
@@ -221,15 +222,24 @@ HELD_OUT_3 = fold_clips(HELDOUT_FOLDS3)
 HELD_OUT_4 = fold_clips(HELDOUT_FOLDS4)
 HELD_OUT_5 = fold_clips(HELDOUT_FOLDS5)
 HELD_OUT_6 = fold_clips(HELDOUT_FOLDS6)
-ALL_FOLDS = FOLDS + HELD_OUT + HELD_OUT_2 + HELD_OUT_3 + HELD_OUT_4 + HELD_OUT_5 + HELD_OUT_6
-#: Held-out clips the tracker does not pass yet (none now).
+HELD_OUT_7 = fold_clips(HELDOUT_FOLDS7)
+ALL_FOLDS = (
+    FOLDS + HELD_OUT + HELD_OUT_2 + HELD_OUT_3 + HELD_OUT_4 + HELD_OUT_5 + HELD_OUT_6 + HELD_OUT_7
+)
+#: Held-out clips the tracker does not pass yet.
+#: - shag_tail_turn (the seventh batch, measured once when it was made): its corner, turned
+#:   away past edge-on, comes back 14 px off and creeps in over 13 frames, then a part
+#:   stays 2-3 px off for ten more while the hand lets go: under a pixel 16 frames after
+#:   the corner is open, where the issue asks for 10. Every other bound it meets.
 #: - toy_tail_lift was one until faint dolls were compared with their detail strengthened:
 #:   it lost 6 frames on its return with NumPy 1.26 (none with NumPy 2.3); now none with
 #:   either.
 #: - plush_flip became one with the detail strengthened: its flipped half came back 3-4 px
 #:   off, left out as covered, and crept in over some 20 frames. The *shown* fit
 #:   (``hidden.left_out``) pulls it back: under a pixel from the frame the half is open.
-FAILING: dict[str, str] = {}
+FAILING: dict[str, str] = {
+    "shag_tail_turn": "16 frames from the turned corner's opening to under a pixel (10 asked)",
+}
 #: Where a clip fell short of the issue's bounds on some machine (BENCHMARKS.md, *Folds and
 #: turns*): the last bits of the arithmetic differ between CPUs and NumPy lines, and on the
 #: hardest frames they decide between two starts. These clips are held to the bound they
@@ -521,6 +531,11 @@ def test_the_fold_clips_are_there():
         "kraft_bag_squeeze",
         "fleece_tail_raise",
         "comic_page_fold",
+    }
+    assert {c.name for c in HELD_OUT_7} == {
+        "gummy_bag_squeeze",
+        "shag_tail_turn",
+        "board_corner_flutter",
     }
 
 
