@@ -20,11 +20,13 @@ from .evaluation import Cover
 from .fitter import CoarseToFineFitter, Fit
 from .hidden import (
     HELD_SLACK,
+    OPEN_LEFT_OUT,
     RETURN_SLACK,
     HiddenPart,
     WayOut,
     at_rest,
     left_out,
+    opens_better,
     returned,
     shows_more,
     still_hidden,
@@ -424,9 +426,16 @@ class Tracker:
         adapted=True,
         trial=False,
         worth=None,
+        anchor=None,
     ) -> Fit:
-        """The fitter's fit; ``adapted``: against the look adapted on the last frame."""
-        anchor = None if self.lost else self.state
+        """The fitter's fit; ``adapted``: against the look adapted on the last frame.
+
+        ``anchor``: the shape what no pixel sees is held at (default: the last frame's).
+        """
+        if self.lost:
+            anchor = None
+        elif anchor is None:
+            anchor = self.state
         template = self._local.template if adapted and not wide else None
         return self.fitter.fit(
             frame,
@@ -447,7 +456,10 @@ class Tracker:
         return (other if other.confidence > fit.confidence else fit), its + other.iterations
 
     def _hidden_part(self, frame, fit: Fit, its: int):
-        """The *still hidden*, *shown* and *back* fits (see :mod:`.hidden`); (fit, iterations)."""
+        """The *still hidden*, *shown*, *opening* and *back* fits, and the way back.
+
+        See :mod:`.hidden`. Returns (fit, iterations).
+        """
         opt = self.options
         covered = self._hidden.covered(fit.quality)
         if fit.in_view < opt.propose_below and covered is not None:
@@ -464,6 +476,8 @@ class Tracker:
                 its += again.iterations
                 if shows_more(fit, again) and not self._rescues(fit, again):
                     fit = again
+        if self._hidden.away and left_out(fit, OPEN_LEFT_OUT):
+            fit, its = self._opening(frame, fit, its)
         if self._way.open and fit.confidence < opt.propose_below:
             fit, its = self._way_back(frame, fit, its)
         if self._hidden.triangles is not None and fit.confidence < opt.refine_below:
@@ -472,6 +486,19 @@ class Tracker:
             its += back.iterations
             if returned(fit, back, self._hidden.triangles) and not self._rescues(fit, back):
                 fit = back
+        return fit, its
+
+    def _opening(self, frame, fit: Fit, its: int):
+        """The last frame's pose fitted again, what it leaves out held at rest; (fit, its).
+
+        See :mod:`.hidden`. A trial, from the last frame's pose: from the fit's own, already
+        settled, its few iterations at the finest level do not move it.
+        """
+        rest = at_rest(self.state, self.layout, self.frozen)
+        opened = self._fit(frame, [self.state], trial=True, anchor=rest)
+        its += opened.iterations
+        if opens_better(fit, opened) and not self._rescues(fit, opened):
+            return opened, its
         return fit, its
 
     def _held_in_part(self, frame, held: Fit, template, its: int):
