@@ -34,7 +34,8 @@ what the tracker remembers of it from frame to frame, and the five more fits it 
   large part went out of view; while it is out, a poor fit is compared with the few of
   them whose nodes in view lie nearest its own (:meth:`WayOut.nearest`), and the one that
   explains the frame best is taken when it explains it better than the fit and than the
-  last frame's pose held still.
+  last frame's pose held still; where it does not, it is fitted (a trial) and taken when
+  that brings the part back as the fit from the rest shape must (:func:`returned`).
 
 It also says which triangles a frame's result reports in view (:meth:`HiddenPart.seen`):
 those the fit kept, less the poorly fitting ones in a large region out of view. When the
