@@ -34,8 +34,9 @@ what the tracker remembers of it from frame to frame, and the five more fits it 
   large part went out of view; while it is out, a poor fit is compared with the few of
   them whose nodes in view lie nearest its own (:meth:`WayOut.nearest`), and the one that
   explains the frame best is taken when it explains it better than the fit and than the
-  last frame's pose held still; where it does not, it is fitted (a trial) and taken when
-  that brings the part back as the fit from the rest shape must (:func:`returned`).
+  last frame's pose held still; where it does not, or glances up to :data:`RETURN_SLACK`
+  below the fit, it is fitted (a trial) and taken when that brings the part back as the
+  fit from the rest shape must (:func:`returned`).
 
 It also says which triangles a frame's result reports in view (:meth:`HiddenPart.seen`):
 those the fit kept, less the poorly fitting ones in a large region out of view. When the
@@ -327,7 +328,8 @@ def opens_better(fit, opened) -> bool:
     It must explain the whole doll at least :data:`OPEN_GAIN` better and the part in view
     no worse. Where nothing had come back -- a glint left out on a glossy card, a patch of
     a real bag -- the two fits differ by a few thousandths, either way; where a part held
-    as it was last seen had come back, by 0.006-0.24 (``samples/folds/fold_squeeze``,
+    as it was last seen had come back, the fits taken on the fold renders explained the
+    doll 0.018-0.24 better (``samples/folds/fold_squeeze``,
     opened flat again: the fit stayed 1.1-1.7 px off for seven frames with 6% of the doll
     left out, while the renderer's shape fitted better than it did; fitted from that shape
     it walked 1.4 px away, held by the part left out).
