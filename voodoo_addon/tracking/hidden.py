@@ -326,13 +326,13 @@ def opens_better(fit, opened) -> bool:
     """The *opening* fit (``opened``) is taken over ``fit``.
 
     It must explain the whole doll at least :data:`OPEN_GAIN` better and the part in view
-    no worse. Where nothing had come back -- a glint left out on a glossy card, a patch of
-    a real bag -- the two fits differ by a few thousandths, either way; where a part held
+    no worse. Where nothing had come back -- a glint left out on the glossy card of the
+    clip suite -- the two fits differ by a few thousandths, either way; where a part held
     as it was last seen had come back, the fits taken on the fold renders explained the
-    doll 0.018-0.24 better (``samples/folds/fold_squeeze``,
-    opened flat again: the fit stayed 1.1-1.7 px off for seven frames with 6% of the doll
-    left out, while the renderer's shape fitted better than it did; fitted from that shape
-    it walked 1.4 px away, held by the part left out).
+    doll 0.018-0.24 better (``samples/folds/fold_squeeze``, opened flat again: the fit
+    stayed 1.1-1.7 px off for seven frames with 6% of the doll left out, while the
+    renderer's shape fitted better than it did; fitted from that shape it walked 1.4 px
+    away, held by the part left out).
     """
     return opened.confidence >= fit.confidence + OPEN_GAIN and opened.in_view >= fit.in_view
 
