@@ -9,7 +9,7 @@ import numpy as np
 from bpy_extras import anim_utils
 from mathutils import Matrix
 
-from .storage import QUALITY_PROP
+from .storage import IN_VIEW_PROP, QUALITY_PROP
 
 #: Stretches of frames whose quality falls below this (or that were lost) get a timeline
 #: marker: the places an animator should look at before trusting the take.
@@ -105,17 +105,23 @@ def transform_values(obj, matrices):
     return np.array(locs), path, np.array(rots), np.array(scales)
 
 
-def write_quality(obj, bag, frames, quality) -> None:
-    """The take's quality as an F-curve of the target's ``voodoo_quality`` property."""
-    obj[QUALITY_PROP] = float(quality[0])
-    obj.id_properties_ui(QUALITY_PROP).update(
-        min=0.0,
-        max=1.0,
-        description="How well the doll was tracked in this frame (0: lost, 1: perfect)",
-    )
-    fc = write_curve(bag, f'["{QUALITY_PROP}"]', 0, frames, quality, "Tracking Quality")
-    for kp in fc.keyframe_points:
-        kp.interpolation = "CONSTANT"
+def write_quality(obj, bag, frames, quality, in_view) -> None:
+    """The take's quality and share in view as F-curves of two properties of the target.
+
+    ``voodoo_quality``: how well the doll was tracked; ``voodoo_in_view``: how much of it
+    was in view (the rest folded under, turned away, covered or off the picture, holding
+    its last seen shape). Keyed on every tracked frame, held constant between keys, so the
+    Graph Editor shows where a take is partial and a driver can read it.
+    """
+    tracked = "How well the doll was tracked in this frame (0: lost, 1: perfect)"
+    seen = "Share of the doll in view in this frame (0: lost, 1: all of it)"
+    shares = ((QUALITY_PROP, quality, tracked), (IN_VIEW_PROP, in_view, seen))
+    for prop, values, description in shares:
+        obj[prop] = float(values[0])
+        obj.id_properties_ui(prop).update(min=0.0, max=1.0, description=description)
+        fc = write_curve(bag, f'["{prop}"]', 0, frames, values, "Tracking Quality")
+        for kp in fc.keyframe_points:
+            kp.interpolation = "CONSTANT"
 
 
 def mark_attention(scene, take_name: str, frames, quality) -> list:

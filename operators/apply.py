@@ -234,7 +234,7 @@ def apply_take(
     bag_obj.fcurves.clear()
     write_transforms(obj, bag_obj, rig, take, frames, rest_matrix, use)
     quality = np.where(take.lost, 0.0, take.confidence)
-    write_quality(obj, bag_obj, frames.astype(np.float64), quality)
+    write_quality(obj, bag_obj, frames.astype(np.float64), quality, take.in_view())
     marked = mark_attention(scene, take_name, frames, quality)
     TargetLink(
         blob=blob_mesh.name,

@@ -12,7 +12,8 @@ Format version 2 (``FORMAT_VERSION``):
   there). Version 1 kept the bytes directly under the name and the frames under
   ``["voodoo_take_frames"][name]``; it is still read.
 - A target driven by a take carries ``["voodoo"]`` (see :class:`TargetLink`) and a
-  ``["voodoo_quality"]`` property whose F-curve is the take's tracking quality.
+  ``["voodoo_quality"]`` property whose F-curve is the take's tracking quality, and a
+  ``["voodoo_in_view"]`` property whose F-curve is the share of the doll in view.
 - The action written for a take carries ``["voodoo_take"]`` and ``["voodoo_blob"]``.
 - Takes being recorded are journalled to ``voodoo_recovery/`` beside the .blend (or in the
   system's temporary folder for an unsaved file) until they are stored, so a crash loses
@@ -43,6 +44,7 @@ TAKES_KEY = "voodoo_takes"
 V1_FRAMES_KEY = "voodoo_take_frames"
 LINK_KEY = "voodoo"
 QUALITY_PROP = "voodoo_quality"
+IN_VIEW_PROP = "voodoo_in_view"
 ACTION_TAKE_KEY = "voodoo_take"
 ACTION_BLOB_KEY = "voodoo_blob"
 #: On a target's shape keys (the Key): the gain each mode's shape was written with.

@@ -5,12 +5,12 @@ import numpy as np
 from bpy_extras import anim_utils
 
 
-def _quality_curve(obj, sub):
+def _quality_curve(obj, sub, prop="QUALITY_PROP"):
     store = sub("operators.storage")
     bag = anim_utils.action_get_channelbag_for_slot(
         obj.animation_data.action, obj.animation_data.action_slot
     )
-    return bag.fcurves.find(f'["{store.QUALITY_PROP}"]')
+    return bag.fcurves.find(f'["{getattr(store, prop)}"]')
 
 
 def test_every_tracked_frame_keys_the_quality(prepared, sub, make):
@@ -30,6 +30,15 @@ def test_every_tracked_frame_keys_the_quality(prepared, sub, make):
     assert (keys[:, 1] > animation.ATTENTION_BELOW).all()  # a clean take: nothing to look at
     assert not [m for m in ctx.scene.timeline_markers if m.name.startswith(s.last_take)]
     ui = obj.id_properties_ui(store.QUALITY_PROP).as_dict()
+    assert ui["min"] == 0.0 and ui["max"] == 1.0
+    # The share of the doll in view, keyed beside it: all of it, on a flat card in view.
+    fc = _quality_curve(obj, sub, "IN_VIEW_PROP")
+    keys = np.array([k.co[:] for k in fc.keyframe_points])
+    np.testing.assert_array_equal(keys[:, 0], frames)
+    np.testing.assert_allclose(keys[:, 1], take.in_view(), atol=1e-6)
+    assert (keys[:, 1] > 0.9).all()
+    assert {k.interpolation for k in fc.keyframe_points} == {"CONSTANT"}
+    ui = obj.id_properties_ui(store.IN_VIEW_PROP).as_dict()
     assert ui["min"] == 0.0 and ui["max"] == 1.0
 
 
@@ -65,3 +74,11 @@ def test_a_take_that_leaves_the_picture_is_marked_and_reported(ctx, make, exit_c
     fc = _quality_curve(obj, sub)
     for f in lost_frames:
         assert fc.evaluate(float(f)) == 0.0
+    # How much of the doll was in view: nothing while it is gone; less than all of it on
+    # the frames where it was leaving the picture and still followed.
+    in_view = _quality_curve(obj, sub, "IN_VIEW_PROP")
+    for f in lost_frames:
+        assert in_view.evaluate(float(f)) == 0.0
+    tracked = stored.frames[~stored.take.lost]
+    shares = np.array([in_view.evaluate(float(f)) for f in tracked])
+    assert (shares < 0.9).any() and (shares > 0.0).all()

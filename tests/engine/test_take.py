@@ -53,6 +53,20 @@ def test_take_shapes_and_accuracy(take_setup):
     assert np.mean(err) < 0.5
 
 
+def test_in_view_is_the_share_of_triangles_seen_and_nothing_when_lost(take_setup):
+    *_, take = take_setup
+    np.testing.assert_array_equal(take.in_view(), np.ones(N))  # a card in view throughout
+    visible = take.visible.copy()
+    visible[2, : len(visible[2]) // 4] = False  # a quarter folded away
+    lost = take.lost.copy()
+    lost[5] = True
+    partial = Take(**{**vars(take), "visible": visible, "lost": lost})
+    share = partial.in_view()
+    assert share[2] == pytest.approx(1.0 - (len(visible[2]) // 4) / len(visible[2]))
+    assert share[5] == 0.0
+    assert share[[0, 1, 3, 4]].tolist() == [1.0] * 4
+
+
 def test_limit_and_progress(take_setup):
     frames, _, blob, _ = take_setup
     calls = []

@@ -68,6 +68,16 @@ class Take:
     def __len__(self) -> int:
         return len(self.params)
 
+    def in_view(self) -> np.ndarray:
+        """Per frame, the share of the doll's triangles in view (T,); 0 where it was lost.
+
+        The same share the live stream sends (``/view``, see
+        :func:`~voodoo_addon.stream.view_share`).
+        """
+        if not self.visible.shape[1]:
+            return np.zeros(len(self))
+        return np.where(self.lost, 0.0, self.visible.mean(axis=1))
+
     @classmethod
     def from_results(cls, results, triangles, param_names, frame_indices, times, fps) -> Take:
         """A take from the tracker's per-frame results.
