@@ -33,6 +33,7 @@ from voodoo_addon.takes.both_ways import (
 )
 from voodoo_addon.takes.dolls import track_dolls
 from voodoo_addon.takes.take import Take
+from voodoo_addon.tracking import tracker as tracker_module
 from voodoo_addon.tracking.troupe import Troupe
 
 T, M, TRI, P = 30, 4, 2, 3
@@ -278,7 +279,7 @@ def test_both_ways_a_plush_turned_past_edge_on_is_followed_nearer():
 
 
 @pytest.mark.slow
-def test_both_ways_a_take_that_ends_at_a_wrong_pose_is_found_again_from_its_end():
+def test_both_ways_a_take_that_ends_at_a_wrong_pose_is_found_again_from_its_end(monkeypatch):
     """The same plush through the dim camera (seed 1): the forward pass slides 13 px off as
     the tail turns away, loses 10-15 frames while most of it is seen, and ends at a wrong
     pose, never back under a pixel (7.65 px with NumPy 1.26, 14.43 with NumPy 2.3). The
@@ -286,7 +287,10 @@ def test_both_ways_a_take_that_ends_at_a_wrong_pose_is_found_again_from_its_end(
     frame, finds it, and follows it back through the turn (2.06 and 2.50 px, no frame lost).
     (This was the redrawn plush, seed 0, until the forward pass stopped ending at a wrong
     pose there: since a doll lost while half turned away is found again by the half in
-    view, it is 1.33 px off and both ways 1.39 with NumPy 1.26.)"""
+    view, it is 1.33 px off and both ways 1.39 with NumPy 1.26. Since a poor fit also tries
+    the capture pose as a start, the forward pass comes back here too, from frame 75; that
+    trial is switched off below, so that the take still ends at a wrong pose.)"""
+    monkeypatch.setattr(tracker_module, "HOME_EVERY", 10**9)
     camera = replace(CAMERAS["dim"], seed=1)
     rows = {r["tracker"]: r for r in run_fold_clip(_minky(), ("ours", "both"), camera=camera)}
     both, ours = rows["both"], rows["ours"]
