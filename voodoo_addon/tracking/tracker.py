@@ -493,10 +493,16 @@ class Tracker:
         if self._hidden.triangles is not None and fit.confidence < opt.refine_below:
             rest = at_rest(fit.params, self.layout, self.frozen)
             back = self._fit(frame, [rest], trial=True, worth=fit.confidence - RETURN_SLACK)
-            its += back.iterations
-            if returned(fit, back, self._hidden.triangles) and not self._rescues(fit, back):
-                fit = back
+            fit, its = self._kept(fit, back, its, returned(fit, back, self._hidden.triangles))
         return fit, its
+
+    def _kept(self, fit: Fit, other: Fit, its: int, passes: bool):
+        """``other`` where it ``passes`` and does not lose a doll ``fit`` finds; else ``fit``.
+
+        Returns (fit, iterations), ``other``'s counted.
+        """
+        its += other.iterations
+        return (other if passes and not self._rescues(fit, other) else fit), its
 
     def _opening(self, frame, fit: Fit, its: int):
         """The last frame's pose fitted again, what it leaves out held at rest; (fit, its).
@@ -506,10 +512,7 @@ class Tracker:
         """
         rest = at_rest(self.state, self.layout, self.frozen)
         opened = self._fit(frame, [self.state], trial=True, anchor=rest)
-        its += opened.iterations
-        if opens_better(fit, opened) and not self._rescues(fit, opened):
-            return opened, its
-        return fit, its
+        return self._kept(fit, opened, its, opens_better(fit, opened))
 
     def _held_in_part(self, frame, held: Fit, template, its: int):
         """The pose held still, judged on the part in view when the whole doll loses it.
@@ -571,10 +574,7 @@ class Tracker:
         10.8 px off). (fit, iterations).
         """
         fitted = self._fit(frame, [pose], trial=True)
-        its += fitted.iterations
-        if returned(fit, fitted, self._hidden.triangles) and not self._rescues(fit, fitted):
-            return fitted, its
-        return fit, its
+        return self._kept(fit, fitted, its, returned(fit, fitted, self._hidden.triangles))
 
     def _from_home(self, frame, fit: Fit, its: int):
         """A trial from the capture pose (:meth:`_capture_pose`), when it beats a poor fit.
@@ -594,10 +594,7 @@ class Tracker:
             return fit, its
         worth = fit.confidence + AGAIN_GAIN - RETURN_SLACK
         trial = self._fit(frame, [home], trial=True, worth=worth)
-        its += trial.iterations
-        if trial.confidence > fit.confidence + AGAIN_GAIN and not self._rescues(fit, trial):
-            return trial, its
-        return fit, its
+        return self._kept(fit, trial, its, trial.confidence > fit.confidence + AGAIN_GAIN)
 
     def _capture_pose(self) -> np.ndarray:
         """Where and how the doll was captured, at rest: a lost doll is looked for there too.
