@@ -2,14 +2,22 @@ import bpy
 
 from ...voodoo_addon.errors import VoodooError
 from ..animation import active_channelbag
-from ..storage import read_link
+from ..storage import IN_VIEW_PROP, QUALITY_PROP, read_link
 from .common import needs, reports_errors, settings
+
+#: Curves of a take that read out how it was tracked, not how the doll moved: not smoothed.
+READOUTS = tuple(f'["{prop}"]' for prop in (QUALITY_PROP, IN_VIEW_PROP))
 
 
 def _take_curves(obj):
-    """F-curves of the take action on an object and on its shape-key datablock."""
+    """F-curves of the take action on an object and on its shape-key datablock.
+
+    Returns (motion curves, readout curves: the tracking quality and the share in view).
+    """
     bags = (active_channelbag(obj), active_channelbag(obj.data.shape_keys))
-    return [fc for bag in bags if bag is not None for fc in bag.fcurves]
+    curves = [fc for bag in bags if bag is not None for fc in bag.fcurves]
+    motion = [fc for fc in curves if fc.data_path not in READOUTS]
+    return motion, [fc for fc in curves if fc.data_path in READOUTS]
 
 
 class VOODOO_OT_smooth_take(bpy.types.Operator):
@@ -37,7 +45,7 @@ class VOODOO_OT_smooth_take(bpy.types.Operator):
         obj = s.target if s.target is not None else context.active_object
         if read_link(obj) is None:
             raise VoodooError("The target has no applied take to smooth.")
-        curves = _take_curves(obj)
+        curves, readouts = _take_curves(obj)
         if not curves:
             raise VoodooError(f"{obj.name!r} has no take curves (was its action replaced?).")
         window = context.window or context.window_manager.windows[0]
@@ -50,11 +58,11 @@ class VOODOO_OT_smooth_take(bpy.types.Operator):
             for o, _ in selection:
                 o.select_set(o == obj)
             context.view_layer.objects.active = obj
-            for fc in curves:
-                fc.select = True
+            for fc, chosen in [(fc, True) for fc in curves] + [(fc, False) for fc in readouts]:
+                fc.select = chosen
                 fc.hide = False
                 for k in fc.keyframe_points:
-                    k.select_control_point = True
+                    k.select_control_point = chosen
             region = next(r for r in area.regions if r.type == "WINDOW")
             with context.temp_override(window=window, area=area, region=region):
                 result = bpy.ops.graph.butterworth_smooth(cutoff_frequency=self.cutoff)

@@ -219,10 +219,21 @@ def test_smoothing_uses_blenders_filter(prepared, sub, make):
     for k, jitter in zip(fc.keyframe_points, rng.normal(0, 0.3, len(before)), strict=True):
         k.co[1] += jitter
     noisy = np.array([k.co[1] for k in fc.keyframe_points])
+    # The curves that read out how the take was tracked are measurements: left as they are.
+    store = sub("operators.storage")
+    obj_bag = anim_utils.action_get_channelbag_for_slot(
+        obj.animation_data.action, obj.animation_data.action_slot
+    )
+    readouts = [obj_bag.fcurves.find(f'["{p}"]') for p in (store.QUALITY_PROP, store.IN_VIEW_PROP)]
+    for curve in readouts:  # a jagged readout, which a filter would round off
+        for i, k in enumerate(curve.keyframe_points):
+            k.co[1] = float(i % 2)
+    read = [[k.co[1] for k in curve.keyframe_points] for curve in readouts]
     assert bpy.ops.voodoo.smooth_take(cutoff=2.0) == {"FINISHED"}
     smooth = np.array([k.co[1] for k in fc.keyframe_points])
     assert len(smooth) == len(before)  # still ordinary, editable keys
     assert np.abs(np.diff(smooth, 2)).mean() < 0.5 * np.abs(np.diff(noisy, 2)).mean()
+    assert [[k.co[1] for k in curve.keyframe_points] for curve in readouts] == read
 
 
 def test_live_recorder_poses_a_stand_in(prepared, sub, make):
