@@ -33,6 +33,7 @@ def test_blob_and_take_survive_save_and_reload(prepared, sub, make, tmp_path):
     obj = bpy.data.objects["Flat"]
     assert obj.animation_data.action.name.startswith(s.last_take)
     assert len(obj.data.shape_keys.key_blocks) == 1 + len(labels)
+    assert store.IN_VIEW_PROP in obj and store.QUALITY_PROP in obj  # the readouts reload too
     assert s.capture_image is not None and s.capture_image.packed_file is not None
 
     # tracking continues where the take ended, from its last pose, and the take grows
@@ -50,6 +51,10 @@ def test_blob_and_take_survive_save_and_reload(prepared, sub, make, tmp_path):
     bag = anim_utils.action_get_channelbag_for_slot(action, obj.animation_data.action_slot)
     loc = bag.fcurves.find("location")
     assert [int(k.co[0]) for k in loc.keyframe_points] == grown.frames.tolist()
+    # the share in view, keyed over the whole grown take as well
+    view = bag.fcurves.find(f'["{store.IN_VIEW_PROP}"]')
+    assert [int(k.co[0]) for k in view.keyframe_points] == grown.frames.tolist()
+    np.testing.assert_allclose([k.co[1] for k in view.keyframe_points], cont.in_view(), atol=1e-6)
     # ... landing where an uninterrupted take is
     assert bpy.ops.voodoo.track_clip() == {"FINISHED"}
     full = store.stored_take(s.blob, s.last_take).take
