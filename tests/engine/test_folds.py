@@ -230,7 +230,10 @@ ALL_FOLDS = (
 #: - shag_tail_turn (the seventh batch, measured once when it was made): its corner, turned
 #:   away past edge-on, comes back 14 px off and creeps in over 13 frames, then a part
 #:   stays 2-3 px off for ten more while the hand lets go: under a pixel 16 frames after
-#:   the corner is open, where the issue asks for 10. Every other bound it meets.
+#:   the corner is open, where the issue asks for 10. Every other bound it meets. Since a
+#:   part just back is fitted again (``Tracker._follow_on``) the corner is in sooner (2.2
+#:   px on frame 70, where it was 8.5), but the doll then stays 2-3 px off to frame 95:
+#:   22 frames after the opening.
 #: - toy_tail_lift was one until faint dolls were compared with their detail strengthened:
 #:   it lost 6 frames on its return with NumPy 1.26 (none with NumPy 2.3); now none with
 #:   either.
@@ -238,7 +241,7 @@ ALL_FOLDS = (
 #:   off, left out as covered, and crept in over some 20 frames. The *shown* fit
 #:   (``hidden.left_out``) pulls it back: under a pixel from the frame the half is open.
 FAILING: dict[str, str] = {
-    "shag_tail_turn": "16 frames from the turned corner's opening to under a pixel (10 asked)",
+    "shag_tail_turn": "22 frames from the turned corner's opening to under a pixel (10 asked)",
 }
 #: Where a clip fell short of the issue's bounds on some machine (BENCHMARKS.md, *Folds and
 #: turns*): the last bits of the arithmetic differ between CPUs and NumPy lines, and on the
@@ -342,6 +345,7 @@ def test_a_part_left_out_as_covered_is_pulled_back_when_it_was_only_misaligned(m
     assert not lost.any()
     assert (err[69:76] < 1.0).all(), err[60:76]
     monkeypatch.setattr(hidden, "SHOWN_IN_VIEW", 2.0)  # the shown fit never made
+    monkeypatch.setattr(hidden, "FOLLOW_AFTER", -1)  # nor the fit following on
     err, _, _ = _tracked(clip, 76)
     assert (err[69:76] > 2.0).all(), err[60:76]
 
@@ -360,6 +364,25 @@ def test_a_part_left_out_after_a_fold_is_held_at_rest_when_that_fits_better(monk
     monkeypatch.setattr(hidden, "OPEN_GAIN", 2.0)  # the opening fit never taken
     without, _, _ = _tracked(clip, 70)
     assert (without[63:69] > 1.2).all(), without[56:70]
+
+
+def test_a_part_just_back_is_fitted_again_with_what_it_leaves_out_held_where_it_went(
+    monkeypatch,
+):
+    """``plush_flip``'s half is back in view on frame 52 and in place but for a strip that the
+    fit leaves out as covered, held at the last frame's shape: the doll stayed 1.4-1.8 px off
+    on frames 64-67 (NumPy 1.26 and 2.3). Fitted again from its own pose with that strip held
+    there (``Tracker._follow_on``, in the first frames after a part was out of view), it
+    comes in sooner: 0.6-1.5 px off on those frames, and under a pixel from frame 68 on both
+    lines."""
+    clip = next(c for c in HELD_OUT if c.name == "plush_flip")
+    err, lost, _ = _tracked(clip, 74)
+    assert not lost.any()
+    assert (err[68:74] < 1.0).all(), err[52:74]
+    monkeypatch.setattr(hidden, "FOLLOW_AFTER", -1)  # no part is ever just back
+    without, _, _ = _tracked(clip, 74)
+    assert (without[64:68] > 1.3).all(), without[52:74]
+    assert err[64:68].mean() < without[64:68].mean() - 0.3, (err[60:70], without[60:70])
 
 
 def test_a_pose_of_the_way_back_is_fitted_when_held_as_it_was_it_falls_short(monkeypatch):

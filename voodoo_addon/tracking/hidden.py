@@ -1,7 +1,7 @@
 """The part of a doll out of view: kept out while it is hidden, found again when it is back.
 
 A fold, a turn in depth or a hand hides part of a doll for a while. :class:`HiddenPart` is
-what the tracker remembers of it from frame to frame, and the five more fits it asks for
+what the tracker remembers of it from frame to frame, and the six more fits it asks for
 (:meth:`Tracker._hidden_part <voodoo_addon.tracking.tracker.Tracker>`):
 
 - *still hidden*: a frame whose comparison was not close enough to tell covered from
@@ -24,6 +24,12 @@ what the tracker remembers of it from frame to frame, and the five more fits it 
   in view better (:func:`left_out`, :func:`opens_better`): a part misaligned by a pixel or
   two is left out as covered, and a part left out is held where it was, so the fit stays
   off the doll with it;
+- *following on*: in the first frames after a large part was out of view
+  (:attr:`HiddenPart.returning`), a fit that leaves a small part out that still correlates
+  somewhat is made again from its own pose with that part held there, instead of where
+  the last frame had it, up to :data:`FOLLOW_TIMES` times, each taken as the *opening*
+  fit is (:func:`follows_on`, :func:`opens_better`): a part just back is still on its way
+  in, and held at the last frame's shape it holds the whole fit a pixel off behind it;
 - *back*: after a frame with a large part out of view, the fit from the doll's rest shape
   (:func:`at_rest`) is taken when it brings that part back into view
   (:func:`returned`): a folded part comes back near its rest shape far more often than in
@@ -80,6 +86,15 @@ SHOWN_CORRELATION = 0.15
 #: at least :data:`OPEN_GAIN` better and the part in view no worse (:func:`opens_better`).
 OPEN_LEFT_OUT = 0.05
 OPEN_GAIN = 0.01
+#: *Following on*: in the first this many frames after the last one with a large part out
+#: of view (:attr:`HiddenPart.returning`)...
+FOLLOW_AFTER = 5
+#: ...a fit that leaves at least this share of the textured doll out as covered, still
+#: correlating at :data:`SHOWN_CORRELATION` or more (:func:`follows_on`), is made again from
+#: its own pose with that part held there, at most :data:`FOLLOW_TIMES` times, each taken as
+#: the *opening* fit is (:func:`opens_better`).
+FOLLOW_LEFT_OUT = 0.03
+FOLLOW_TIMES = 3
 #: The way back (:class:`WayOut`): the poses of this many frames before a large part went
 #: out of view are kept; they are tried from this many frames after it went...
 WAY_OUT_FRAMES = 24
@@ -126,10 +141,17 @@ class HiddenPart:
         #: (``samples/heldout_folds/plush_flip`` through a dim camera: 30-42 px off over
         #: frames 52-68; 5.61 px on average against 8.87).
         self.away = False
+        self._back_for = FOLLOW_AFTER + 1  # found frames since a large part was out of view
 
     def forget(self) -> None:
         self.triangles = None
         self.away = False
+        self._back_for = FOLLOW_AFTER + 1
+
+    @property
+    def returning(self) -> bool:
+        """A large part was out of view, and is back since at most :data:`FOLLOW_AFTER` frames."""
+        return self.away and self.triangles is None and self._back_for <= FOLLOW_AFTER
 
     def lose(self) -> None:
         """The doll was lost: that a part has been away is forgotten, not which part was.
@@ -149,8 +171,10 @@ class HiddenPart:
         if share < RETURN_BELOW and visible is not None:
             self.triangles = ~np.asarray(visible, bool)
             self.away = True
+            self._back_for = 0
         else:
             self.triangles = None
+            self._back_for += 1
 
     def covered(self, quality) -> np.ndarray | None:
         """The triangles to leave out in the *still hidden* fit of a frame (None: none).
@@ -318,6 +342,20 @@ def left_out(fit, share: float = SHOWN_LEFT_OUT) -> bool:
     """
     q = fit.quality
     if q is None or q.in_view < SHOWN_IN_VIEW or q.seen - q.share < share:
+        return False
+    return q.left_out_correlation >= SHOWN_CORRELATION
+
+
+def follows_on(fit) -> bool:
+    """The *following on* fit is worth making after ``fit`` (a part has just come back).
+
+    ``fit`` leaves at least :data:`FOLLOW_LEFT_OUT` of the textured doll out as covered, and
+    that part still correlates with the template at :data:`SHOWN_CORRELATION` or more: a part
+    a pixel or two off does, somewhat; a part under a hand mostly does not (the real bag
+    clip, squeezed by two hands, would otherwise make 25 of these fits rather than 12).
+    """
+    q = fit.quality
+    if q is None or q.seen - q.share < FOLLOW_LEFT_OUT:
         return False
     return q.left_out_correlation >= SHOWN_CORRELATION
 
