@@ -1,7 +1,7 @@
 """The part of a doll out of view: kept out while it is hidden, found again when it is back.
 
 A fold, a turn in depth or a hand hides part of a doll for a while. :class:`HiddenPart` is
-what the tracker remembers of it from frame to frame, and the six more fits it asks for
+what the tracker remembers of it from frame to frame, and the seven more fits it asks for
 (:meth:`Tracker._hidden_part <voodoo_addon.tracking.tracker.Tracker>`):
 
 - *still hidden*: a frame whose comparison was not close enough to tell covered from
@@ -30,6 +30,11 @@ what the tracker remembers of it from frame to frame, and the six more fits it a
   the last frame had it, up to :data:`FOLLOW_TIMES` times, each taken as the *opening*
   fit is (:func:`follows_on`, :func:`opens_better`): a part just back is still on its way
   in, and held at the last frame's shape it holds the whole fit a pixel off behind it;
+- *settled back*: once the part is back, a fit under :data:`SETTLE_BELOW` whose pose at the
+  rest shape glances nearly as well (:data:`SETTLE_GLANCE`) is tried from the rest shape,
+  and taken when it is as much surer as a search made again must be: a doll let go after a
+  turn settles back at its rest shape, while the modal fit can stay stuck a few pixels off
+  with the local stage's offsets making up the rest;
 - *back*: after a frame with a large part out of view, the fit from the doll's rest shape
   (:func:`at_rest`) is taken when it brings that part back into view
   (:func:`returned`): a folded part comes back near its rest shape far more often than in
@@ -95,6 +100,11 @@ FOLLOW_AFTER = 5
 #: the *opening* fit is (:func:`opens_better`).
 FOLLOW_LEFT_OUT = 0.03
 FOLLOW_TIMES = 3
+#: *Settled back*: once a large part has been out of view and is back, a fit under this...
+SETTLE_BELOW = 0.8
+#: ...whose pose at the rest shape glances at most this much below it is tried from there
+#: (:meth:`HiddenPart.settled`).
+SETTLE_GLANCE = 0.12
 #: The way back (:class:`WayOut`): the poses of this many frames before a large part went
 #: out of view are kept; they are tried from this many frames after it went...
 WAY_OUT_FRAMES = 24
@@ -149,9 +159,14 @@ class HiddenPart:
         self._back_for = FOLLOW_AFTER + 1
 
     @property
+    def back(self) -> bool:
+        """A large part has been out of view since the doll was last lost, and is back."""
+        return self.away and self.triangles is None
+
+    @property
     def returning(self) -> bool:
         """A large part was out of view, and is back since at most :data:`FOLLOW_AFTER` frames."""
-        return self.away and self.triangles is None and self._back_for <= FOLLOW_AFTER
+        return self.back and self._back_for <= FOLLOW_AFTER
 
     def lose(self) -> None:
         """The doll was lost: that a part has been away is forgotten, not which part was.
