@@ -103,7 +103,7 @@ FOLLOW_TIMES = 3
 #: *Settled back*: once a large part has been out of view and is back, a fit under this...
 SETTLE_BELOW = 0.8
 #: ...whose pose at the rest shape glances at most this much below it is tried from there
-#: (:meth:`HiddenPart.settled`).
+#: (``Tracker._settled``).
 SETTLE_GLANCE = 0.12
 #: The way back (:class:`WayOut`): the poses of this many frames before a large part went
 #: out of view are kept; they are tried from this many frames after it went...
