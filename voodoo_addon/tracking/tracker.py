@@ -539,10 +539,10 @@ class Tracker:
         """
         for _ in range(FOLLOW_TIMES):
             on = self._fit(frame, [fit.params], checked=True, anchor=fit.params)
-            its += on.iterations
-            if not opens_better(fit, on) or self._rescues(fit, on):
+            kept, its = self._kept(fit, on, its, opens_better(fit, on))
+            if kept is fit:
                 break
-            fit = on
+            fit = kept
         return fit, its
 
     def _settled(self, frame, fit: Fit, its: int):
@@ -564,9 +564,7 @@ class Tracker:
             return fit, its
         if self.fitter.glance(fit, rest) < fit.confidence - SETTLE_GLANCE:
             return fit, its
-        worth = fit.confidence + AGAIN_GAIN - RETURN_SLACK
-        trial = self._fit(frame, [rest], trial=True, worth=worth)
-        return self._kept(fit, trial, its, trial.confidence > fit.confidence + AGAIN_GAIN)
+        return self._tried_again(frame, fit, its, rest)
 
     def _held_in_part(self, frame, held: Fit, template, its: int):
         """The pose held still, judged on the part in view when the whole doll loses it.
@@ -646,8 +644,16 @@ class Tracker:
         home = self._capture_pose()
         if np.array_equal(home, self.state):
             return fit, its
+        return self._tried_again(frame, fit, its, home)
+
+    def _tried_again(self, frame, fit: Fit, its: int, start):
+        """A trial from ``start``, taken when :data:`AGAIN_GAIN` surer than ``fit``.
+
+        Its coarse levels must glance :data:`AGAIN_GAIN` less :data:`~.hidden.RETURN_SLACK`
+        above the fit to go on. (fit, iterations).
+        """
         worth = fit.confidence + AGAIN_GAIN - RETURN_SLACK
-        trial = self._fit(frame, [home], trial=True, worth=worth)
+        trial = self._fit(frame, [start], trial=True, worth=worth)
         return self._kept(fit, trial, its, trial.confidence > fit.confidence + AGAIN_GAIN)
 
     def _capture_pose(self) -> np.ndarray:
