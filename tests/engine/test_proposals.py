@@ -123,3 +123,39 @@ def test_the_template_keypoints_are_made_ahead_and_are_those_made_on_demand():
     for lost in (False, True):
         np.testing.assert_array_equal(ahead._template(lost)[1], asked._template(lost)[1])
         np.testing.assert_array_equal(ahead._template(lost)[2], asked._template(lost)[2])
+
+
+def test_features_detected_ahead_give_the_guess_made_on_demand(scene_blob, monkeypatch):
+    """The frame's features detected on a helper thread ahead of the search give the very
+    guess the search makes when it detects them itself; a guess asked with another box (or
+    after the detection was dropped) detects again on its own thread."""
+    import threading
+    from concurrent.futures import ThreadPoolExecutor
+
+    scene, blob, layout, _ = scene_blob
+    pose = Pose(tx=-12.0, ty=8.0, theta=0.4)
+    frame = scene.render(pose, noise=0.005, rng=np.random.default_rng(6))
+    box, other = (20, 10, 300, 230), (0, 0, 320, 240)
+    near = layout.identity()
+    on_demand = FeatureMatcher(blob, layout).guess(frame, near, box)
+    assert on_demand is not None
+    where = []
+    detect = FeatureMatcher._detect
+
+    def traced(frame, box, detector):
+        where.append(threading.current_thread().name)
+        return detect(frame, box, detector)
+
+    monkeypatch.setattr(FeatureMatcher, "_detect", staticmethod(traced))
+    matcher = FeatureMatcher(blob, layout)
+    with ThreadPoolExecutor(1, thread_name_prefix="helper") as helper:
+        matcher.look_ahead(helper, frame, box)
+        np.testing.assert_array_equal(matcher.guess(frame, near, box), on_demand)
+        assert len(where) == 1 and where[0].startswith("helper")
+        matcher.look_ahead(helper, frame, other)  # another box: the guess detects again
+        np.testing.assert_array_equal(matcher.guess(frame, near, box), on_demand)
+        assert len(where) == 3 and where[2] == threading.current_thread().name
+        matcher.look_ahead(helper, frame, box)
+        matcher.drop_ahead(wait=False)
+        np.testing.assert_array_equal(matcher.guess(frame, near, box), on_demand)
+    assert matcher._ahead is None and matcher._ending is None

@@ -401,6 +401,12 @@ class _CountingMatcher:
         self.calls += 1
         self.lost.append(lost)
 
+    def look_ahead(self, executor, frame, box=None, lost=False):
+        pass  # nothing to detect: the guess finds nothing anyway
+
+    def drop_ahead(self, wait=True):
+        pass
+
 
 def test_a_futile_feature_search_is_not_repeated_until_the_fit_worsens(monkeypatch):
     """Features that found nothing better are not sought again on the next frames while the
@@ -758,3 +764,33 @@ def test_points_followed_on_the_helper_thread_give_the_track_followed_in_line(mo
     # on every frame's are followed ahead.
     assert len(threads) >= len(take.frames) - 2
     assert all(name.startswith("voodoo-points") for name in threads[1:]), threads
+
+
+def test_features_detected_ahead_leave_the_track_as_it_was(monkeypatch):
+    """A frame fitted poorly has its features detected on the helper thread while the other
+    starts are fitted; the search takes them, and the track is the one the search makes
+    when it detects them itself."""
+    from voodoo_addon.tracking.proposals import FeatureMatcher
+
+    take = scenario("mixed")
+    monkeypatch.setattr(tracker_module, "FEATURES_BELOW", 1.0)  # every frame "fits poorly"
+    monkeypatch.setattr(tracker_module, "FUTILE_FRAMES", 1)  # and searches on every frame
+    options = TrackerOptions(propose_below=1.0)
+    taken = []
+    looked_ahead = FeatureMatcher._looked_ahead
+
+    def counted(self, frame, box, detector):
+        found = looked_ahead(self, frame, box, detector)
+        taken.append(found is not None)
+        return found
+
+    monkeypatch.setattr(FeatureMatcher, "_looked_ahead", counted)
+    ahead = [Tracker(take.blob, options=options).track(f) for f in take.frames]
+    assert sum(taken) >= len(take.frames) // 2, taken
+    taken.clear()
+    monkeypatch.setattr(Tracker, "_features_ahead", lambda self, frame, fit: None)
+    asked = [Tracker(take.blob, options=options).track(f) for f in take.frames]
+    assert not any(taken)
+    for a, b in zip(ahead, asked, strict=True):
+        np.testing.assert_array_equal(a.params, b.params)
+        assert a.confidence == b.confidence and a.lost == b.lost
