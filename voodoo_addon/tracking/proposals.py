@@ -366,7 +366,9 @@ class FeatureMatcher:
         whichever thread detects them. :meth:`drop_ahead` forgets them.
         """
         self.drop_ahead()
-        detector = self._template(lost)[0]
+        detector, pts_t, desc_t, fit = self._template(lost)
+        if desc_t is None or fit is None or len(pts_t) < MIN_POINTS:
+            return  # a template too faint to match: the guess gives up before detecting
         job = executor.submit(self._detect, frame, box, detector)
         self._ahead = (frame, None if box is None else tuple(box), detector, job)
 
