@@ -2,9 +2,18 @@
 
 from __future__ import annotations
 
+import os
 import sys
 
 _threads = None
+
+
+def cores() -> int:
+    """The CPU cores this process may run on (its affinity where the system has one)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):  # macOS and Windows have no affinity call
+        return os.cpu_count() or 1
 
 
 def single_blas_thread():
