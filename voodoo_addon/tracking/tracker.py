@@ -153,7 +153,8 @@ class Tracker:
         self.frame_size = tuple(int(v) for v in blob.frame_size)
         self._matcher = FeatureMatcher(blob, self.layout) if opt.features else None
         self._motion = MotionProposal(blob, self.layout)
-        # Follows points beside the fit, and makes the template's features ahead of need.
+        # Follows points and detects a poor frame's features beside the fit, and makes the
+        # template's features ahead of need.
         self._helper = ThreadPoolExecutor(1, thread_name_prefix="voodoo-points")
         if self._matcher is not None:
             self._matcher.prepare(self._helper)
