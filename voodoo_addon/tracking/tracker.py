@@ -309,7 +309,7 @@ class Tracker:
                 fit, its = self._better(fit, self._fit(frame, [guess]), its)
             below = opt.propose_below if guess is None else FEATURES_BELOW
             again = self._futile <= fit.confidence and self._futile_age >= FUTILE_FRAMES
-            if fit.confidence < below and (fit.confidence < self._futile or again):
+            if self._searches(fit, below):
                 tried_features = True
                 fit, its = self._search_features(frame, fit, its, again)
         self._home_age += 1
@@ -697,12 +697,20 @@ class Tracker:
         one, the detection competed with the fit it was to run beside, and
         ``fleece_tail_raise``'s 95th percentile went from 33-34 to 40 ms.
         """
-        if self._matcher is None or not self._second_core or fit.confidence >= FEATURES_BELOW:
-            return
-        if fit.confidence >= self._futile and self._futile_age < FUTILE_FRAMES:
+        if self._matcher is None or not self._second_core or not self._searches(fit):
             return
         faint = fit.in_view < self.options.reacquire_above
         self._matcher.look_ahead(self._helper, frame, self._near_box(frame), lost=faint)
+
+    def _searches(self, fit: Fit, below: float = FEATURES_BELOW) -> bool:
+        """Whether a fit this poor asks for the template's features (see ``_search_features``).
+
+        Below ``below``, and worse than the last futile search's fit, or :data:`FUTILE_FRAMES`
+        frames after it.
+        """
+        if fit.confidence >= below:
+            return False
+        return fit.confidence < self._futile or self._futile_age >= FUTILE_FRAMES
 
     def _search_features(self, frame, fit: Fit, its: int, again: bool):
         """The fit from the template's features, when it beats ``fit``; (fit, iterations).
