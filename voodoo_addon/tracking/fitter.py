@@ -21,7 +21,7 @@ from .folding import FoldGuard
 from .level import Level
 from .norms import RobustNorm
 from .params import ParamLayout, node_positions
-from .pictures import FramePictures, base_level, detail_for
+from .pictures import FramePictures, base_level, detail_for, doll_fine_contrast
 from .refine import LocalRefiner
 from .warp import WarpBackend
 
@@ -100,7 +100,11 @@ class CoarseToFineFitter:
         patches = opt.lighting == "local"
         self.base = base_level(blob.n_pixels, opt.pixel_budget)
         #: How much the detail of template and frames is strengthened in the comparisons.
-        self.detail = detail = detail_for(blob.template) if opt.detail is None else opt.detail
+        if opt.detail is None:
+            detail = detail_for(blob.template, doll_fine_contrast(blob, self.base))
+        else:
+            detail = opt.detail
+        self.detail = detail
         levels = [Level(blob, self.base, layout, opt.pixel_budget, patches, detail)]
         levels[0].finest = True
         while len(levels) < opt.max_levels:

@@ -32,6 +32,13 @@ DETAIL_SIGMA = 3.0
 #: not at all; in between, in proportion (see :func:`detail_for`).
 FAINT = (0.09, 0.13)
 FAINT_DETAIL = 5.0
+#: A texture whose *fine* contrast (:func:`fine_contrast`: what is left of its colours once
+#: blurred at :data:`DETAIL_SIGMA`) is below the first is strengthened by
+#: :data:`FAINT_DETAIL` too, whatever its contrast overall; above the second, not for this;
+#: in between, in proportion. Fur and plush come to 0.006-0.012, printed dolls and the real
+#: bag to 0.037-0.095 (0.030 through a dim camera's blur; BENCHMARKS.md, *Fur dyed in
+#: patches*).
+FINE_FAINT = (0.015, 0.025)
 
 
 def emphasise(picture: np.ndarray, detail: float, sigma: float = DETAIL_SIGMA) -> np.ndarray:
@@ -48,7 +55,7 @@ def emphasise(picture: np.ndarray, detail: float, sigma: float = DETAIL_SIGMA) -
     return out
 
 
-def detail_for(template: np.ndarray) -> float:
+def detail_for(template: np.ndarray, fine: float | None = None) -> float:
     """How much to strengthen the detail of a doll with the template colours ``template``.
 
     On a faint texture -- plush, fur, felt: little contrast -- the shading of a doll
@@ -57,10 +64,55 @@ def detail_for(template: np.ndarray) -> float:
     texture, which shading hardly touches, is what places it (BENCHMARKS.md, *Detail on
     faint dolls*). A printed texture is placed by its own contrast, and strengthening its
     detail would only weigh motion blur and creases more.
+
+    Contrast overall misses fur dyed in patches, or lit across by a lamp: its colours
+    vary as much as a print's (a standard deviation of 0.13-0.15), while its fine texture
+    is as faint as any plush's. ``fine`` (:func:`fine_contrast` of the doll's texture)
+    tells those apart; the doll is strengthened as much as the fainter of the two says.
     """
     contrast = float(np.std(template))
-    low, high = FAINT
-    return FAINT_DETAIL * min(max((high - contrast) / (high - low), 0.0), 1.0)
+    strength = _faint(contrast, FAINT)
+    if fine is not None:
+        strength = max(strength, _faint(fine, FINE_FAINT))
+    return FAINT_DETAIL * strength
+
+
+def _faint(contrast: float, bounds) -> float:
+    """1 below ``bounds[0]``, 0 above ``bounds[1]``, linear in between."""
+    low, high = bounds
+    return min(max((high - contrast) / (high - low), 0.0), 1.0)
+
+
+def fine_contrast(texture: np.ndarray, inside: np.ndarray, sigma: float = DETAIL_SIGMA) -> float:
+    """The root mean square of ``texture``'s detail finer than ``sigma`` pixels, inside.
+
+    ``texture`` (h, w, c) float; ``inside`` (h, w) bool: the doll's pixels. The blur is
+    taken over the doll's pixels alone (normalised by the blurred mask), so the outline's
+    edge against the background adds nothing.
+    """
+    mask = inside.astype(np.float32)
+    if not mask.any():
+        return 0.0
+    spread = blur(mask, sigma)
+    smooth = blur(texture * mask[..., None], sigma) / np.maximum(spread, 1e-6)[..., None]
+    detail = (texture - smooth)[inside]
+    return float(np.sqrt(np.mean(detail * detail)))
+
+
+def doll_fine_contrast(blob, base: int = 0) -> float:
+    """:func:`fine_contrast` of ``blob``'s texture on pyramid level ``base``.
+
+    The level the doll is tracked on (:func:`base_level`): the comparison strengthens the
+    detail finer than :data:`DETAIL_SIGMA` pixels of that level.
+    """
+    texture = np.asarray(blob.texture, np.float32)
+    for _ in range(base):
+        texture = cv2.pyrDown(texture)
+    local = np.round((blob.pixel_coords - blob.texture_origin) / 2.0**base).astype(np.int64)
+    local = np.clip(local, 0, np.array(texture.shape[1::-1]) - 1)
+    inside = np.zeros(texture.shape[:2], bool)
+    inside[local[:, 1], local[:, 0]] = True
+    return fine_contrast(texture, inside)
 
 
 def to_float(pixels: np.ndarray) -> np.ndarray:
