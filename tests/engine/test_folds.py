@@ -599,14 +599,16 @@ def test_fur_dyed_in_patches_comes_back_with_its_fine_detail_strengthened():
     print's (0.133), so by its contrast overall it was compared as it is. Its fine detail
     is as faint as any plush's, and compared so, a fit started from the renderer's own pose
     walked 1.1-2.3 px away from it on frames 64-72, with a lower confidence. With the detail
-    strengthened for the faint fine contrast, the top that comes back (frame 56) is under
-    1.5 px on average over frames 60-72 (2.3 px before; 1.0-2.5 px on four redraws of the
-    render and through the webcam and dim cameras, seed 0, where it was 3.2-5.0)."""
+    strengthened for the faint fine contrast, the doll whose top came back on frame 56 is
+    under 1.25 px on each of frames 64-72, 0.83 px on average, where it was 1.64 (NumPy
+    1.26; with NumPy 2.3 0.75 against 1.43). Over frames 60-72, 1.0-2.5 px on four redraws
+    of the render and through the webcam and dim cameras (seed 0), where it was 3.2-5.0."""
     clip = next(c for c in HELD_OUT_2 if c.name == "plush_nod")
     err, lost, _ = _tracked(clip, 73)
     before, _, _ = _tracked(clip, 73, overall=True)
     assert not lost.any()
-    assert err[60:73].mean() < 1.5 < 2.0 < before[60:73].mean(), (err[60:73], before[60:73])
+    back, was = err[64:73], before[64:73]
+    assert back.max() < 1.25 and back.mean() < 1.0 < 1.3 < was.mean(), (back, was)
 
 
 def _tracked(clip, count, camera=None, overall=False):
