@@ -489,14 +489,17 @@ def test_a_turned_part_comes_back_the_way_it_went(monkeypatch):
     opens over the next frames, while the fits hold it open near its rest shape. A pose
     of its way out (``hidden.WayOut``) brings it within 3.5 px by frame 58 (2.5 px with
     NumPy 1.26, 3.2 with 2.3); without the way back the doll is still 6-8 px off on frames
-    58-60 (NumPy 1.26)."""
+    58-60 (NumPy 1.26). Since its faint fine detail is strengthened 5x (3.1x before), frames
+    58-60 are 1.8-3.0 px off with the way back and 4.7-6.3 without (NumPy 1.26), 1.4-1.9
+    and 2.8-5.1 (NumPy 2.3): 2.2-3.0 px nearer on average."""
     clip = next(c for c in FOLDS if c.name == "tail_turn")
     err, lost, _ = _tracked(clip, 61)
     assert not lost.any()
     assert (err[58:61] < 3.5).all(), err[50:61]
     monkeypatch.setattr(hidden, "WAY_BACK_AFTER", 10**6)  # the way back never tried
     without, _, _ = _tracked(clip, 61)
-    assert (without[58:61] > err[58:61] + 2.0).all(), (without[50:61], err[50:61])
+    assert (without[58:61] > err[58:61]).all(), (without[50:61], err[50:61])
+    assert without[58:61].mean() > err[58:61].mean() + 2.0, (without[50:61], err[50:61])
 
 
 def test_the_way_out_is_kept_until_the_doll_is_back(foam):
