@@ -240,6 +240,32 @@ tune it on and made only when named, apart from every other clip, into
     to the right, half opens and folds over again, and unfolds while the board slides right
     and turns 7 degrees.
 
+An eighth batch of held-out clips of folds (``hardclips/heldout_folds8.py``, paint there too),
+made after the seventh for issue 22's check that the tracker generalises, likewise never to
+tune it on and made only when named, apart from every other clip, into
+``samples/heldout_folds8``::
+
+    OMP_NUM_THREADS=1 .venv/bin/python scripts/render_hard_clips.py --out samples/heldout_folds8 \
+        --only calico_tail_turn spotted_plush_squeeze watercolour_card_fold
+
+``calico_tail_turn``
+    A furry stuffed-toy patch of calico faux fur, a faint short pile dyed in large soft-edged
+    patches of cream, ginger and brown-black (its colours vary a lot overall, its fine texture
+    is faint), left of and above the middle, held by a hand at its lower left corner, is
+    turned away from the camera about an axis falling 65 degrees to the right: the patch 30
+    degrees and its lower left half on to 110 degrees, past edge-on, at a moderate pace
+    (0.8 s), held 0.45 s, and back while it drifts right and up.
+``spotted_plush_squeeze``
+    Two hands, in from the lower left and from above, squeeze a white plush patch with large
+    soft-edged black spots lying right of and below the middle: its lower left part (49 %)
+    folds back behind the rest about a crease rising 62 degrees to the left in 0.5 s while it
+    is pushed right and up; it holds, opens again gently (0.7 s), and the hands leave.
+``watercolour_card_fold``
+    The left side (30 %) of a printed watercolour card (soft washes, weak fine detail) below
+    the middle folds over onto the rest by 180 degrees, towards the camera, about a crease
+    leaning 16 degrees from the vertical, in 0.75 s, holds and unfolds in 0.9 s while the card
+    slides left and up and turns 3 degrees.
+
 Everything is seeded: the same command makes the same scenes, truth and outlines (Cycles runs
 seeded on one thread, so the renders should repeat too). The seven tuned clips, which a run
 without ``--only`` renders, take about 50 minutes; the held-out, several-doll and fold clips are

@@ -15,11 +15,11 @@
     Rendering, the camera post (exposure, white balance, sensor noise) and H.264 encoding.
 ``make``
     One clip's files, and the folder's README.
-``heldout``, ``multi``, ``folds``, ``heldout_folds`` to ``heldout_folds7``
+``heldout``, ``multi``, ``folds``, ``heldout_folds`` to ``heldout_folds8``
     The held-out clips, the clips of several dolls in one take, the clips of folds and the
-    seven batches of held-out clips of folds (``heldout_folds``, ``heldout_folds2``,
+    eight batches of held-out clips of folds (``heldout_folds``, ``heldout_folds2``,
     ``heldout_folds3``, ``heldout_folds4``, ``heldout_folds5``, ``heldout_folds6``,
-    ``heldout_folds7``; each group made only when named).
+    ``heldout_folds7``, ``heldout_folds8``; each group made only when named).
 
 Importing the package pins the process to one CPU core: Cycles' thread pool sizes itself from
 the CPUs the process may use, so this has to happen before bpy starts it (import ``hardclips``

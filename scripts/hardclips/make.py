@@ -23,6 +23,7 @@ from hardclips.heldout_folds4 import HELDOUT_FOLDS4, README_HELDOUT_FOLDS4
 from hardclips.heldout_folds5 import HELDOUT_FOLDS5, README_HELDOUT_FOLDS5
 from hardclips.heldout_folds6 import HELDOUT_FOLDS6, README_HELDOUT_FOLDS6
 from hardclips.heldout_folds7 import HELDOUT_FOLDS7, README_HELDOUT_FOLDS7
+from hardclips.heldout_folds8 import HELDOUT_FOLDS8, README_HELDOUT_FOLDS8
 from hardclips.multi import MULTI
 from hardclips.scenarios import CLIPS
 from hardclips.scene import HEIGHT, SEED, WIDTH, new_scene
@@ -55,6 +56,7 @@ GROUPS = (
     Group(HELDOUT_FOLDS5, 800, "the fifth held-out fold clips", README_HELDOUT_FOLDS5),
     Group(HELDOUT_FOLDS6, 900, "the sixth held-out fold clips", README_HELDOUT_FOLDS6),
     Group(HELDOUT_FOLDS7, 1000, "the seventh held-out fold clips", README_HELDOUT_FOLDS7),
+    Group(HELDOUT_FOLDS8, 1100, "the eighth held-out fold clips", README_HELDOUT_FOLDS8),
 )
 
 

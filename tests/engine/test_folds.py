@@ -18,6 +18,7 @@ from voodoo_addon.devtools.folds import (
     HELDOUT_FOLDS5,
     HELDOUT_FOLDS6,
     HELDOUT_FOLDS7,
+    HELDOUT_FOLDS8,
     RETURNED,
     fold_clips,
     nearest_modal,
@@ -224,8 +225,17 @@ HELD_OUT_4 = fold_clips(HELDOUT_FOLDS4)
 HELD_OUT_5 = fold_clips(HELDOUT_FOLDS5)
 HELD_OUT_6 = fold_clips(HELDOUT_FOLDS6)
 HELD_OUT_7 = fold_clips(HELDOUT_FOLDS7)
+HELD_OUT_8 = fold_clips(HELDOUT_FOLDS8)
 ALL_FOLDS = (
-    FOLDS + HELD_OUT + HELD_OUT_2 + HELD_OUT_3 + HELD_OUT_4 + HELD_OUT_5 + HELD_OUT_6 + HELD_OUT_7
+    FOLDS
+    + HELD_OUT
+    + HELD_OUT_2
+    + HELD_OUT_3
+    + HELD_OUT_4
+    + HELD_OUT_5
+    + HELD_OUT_6
+    + HELD_OUT_7
+    + HELD_OUT_8
 )
 #: Held-out clips the tracker does not pass yet.
 #: - shag_tail_turn (the seventh batch, measured once when it was made): its corner, turned
@@ -690,6 +700,11 @@ def test_the_fold_clips_are_there():
         "gummy_bag_squeeze",
         "shag_tail_turn",
         "board_corner_flutter",
+    }
+    assert {c.name for c in HELD_OUT_8} == {
+        "calico_tail_turn",
+        "spotted_plush_squeeze",
+        "watercolour_card_fold",
     }
 
 
