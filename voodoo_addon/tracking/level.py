@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import copy
 
-import cv2
 import numpy as np
 
 from ..blob.mesh import TriMesh, rasterize
@@ -17,7 +16,7 @@ from ..blob.model import ActiveBlob
 from . import kernels
 from .params import ParamLayout, node_positions, placed_shape
 from .photometry import Patches, group_triangles
-from .pictures import emphasise
+from .pictures import emphasise, pyramid
 from .warp import WarpBackend, WarpGeometry, padded
 
 #: Parameter steps at every level: translations and modes move the blob by one level pixel
@@ -25,14 +24,6 @@ from .warp import WarpBackend, WarpGeometry, padded
 #: absolute. Steps of +-delta and +-2 delta form the basis (2 delta ~ the largest change
 #: expected per iteration, §7).
 PHOTOMETRIC_STEP = 0.04
-
-
-def pyramid(image: np.ndarray, levels: int) -> list[np.ndarray]:
-    """``[image, pyrDown(image), ...]`` with ``levels`` entries."""
-    out = [image]
-    for _ in range(levels - 1):
-        out.append(cv2.pyrDown(out[-1]))
-    return out
 
 
 class Level:

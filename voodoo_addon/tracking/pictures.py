@@ -41,6 +41,14 @@ FAINT_DETAIL = 5.0
 FINE_FAINT = (0.015, 0.025)
 
 
+def pyramid(image: np.ndarray, levels: int) -> list[np.ndarray]:
+    """``[image, pyrDown(image), ...]`` with ``levels`` entries."""
+    out = [image]
+    for _ in range(levels - 1):
+        out.append(cv2.pyrDown(out[-1]))
+    return out
+
+
 def emphasise(picture: np.ndarray, detail: float, sigma: float = DETAIL_SIGMA) -> np.ndarray:
     """``picture`` with its detail finer than ``sigma`` pixels made ``1 + detail`` times as strong.
 
@@ -103,11 +111,10 @@ def doll_fine_contrast(blob, base: int = 0) -> float:
     """:func:`fine_contrast` of ``blob``'s texture on pyramid level ``base``.
 
     The level the doll is tracked on (:func:`base_level`): the comparison strengthens the
-    detail finer than :data:`DETAIL_SIGMA` pixels of that level.
+    detail finer than :data:`DETAIL_SIGMA` pixels of that level, whose texture is this one
+    (``level.Level``'s plain texture).
     """
-    texture = np.asarray(blob.texture, np.float32)
-    for _ in range(base):
-        texture = cv2.pyrDown(texture)
+    texture = pyramid(blob.texture, base + 1)[-1]
     local = np.round((blob.pixel_coords - blob.texture_origin) / 2.0**base).astype(np.int64)
     local = np.clip(local, 0, np.array(texture.shape[1::-1]) - 1)
     inside = np.zeros(texture.shape[:2], bool)
