@@ -602,6 +602,37 @@ def test_the_local_stage_is_not_run_where_it_could_never_be_kept(monkeypatch):
         np.testing.assert_array_equal(always.track(frame).nodes, a.nodes)
 
 
+def test_a_part_just_back_gets_looser_offsets_only_where_the_modes_fit_it_well(monkeypatch):
+    """While a part is just back (``opening``), the local stage holds its offsets by
+    OPENING_HOLD_POWER and keeps them for OPENING_GAIN, but only on a modal fit of at least
+    OPENING_ABOVE; otherwise, and on any other frame, by the usual power and gain."""
+    from voodoo_addon.tracking import local as local_module
+    from voodoo_addon.tracking import refine as refine_module
+
+    take = scenario("mixed")
+    tracker = Tracker(take.blob, options=TrackerOptions(refine_below=1.0))
+    off = tracker.state.copy()
+    off[0] += 1.0  # a pixel off: explained well, not perfectly
+    fit = tracker.fitter.hold(take.frames[0], off)
+    assert local_module.OPENING_ABOVE <= fit.confidence < 1.0 - local_module.OPENING_GAIN
+    asked = []
+
+    def recording_refine(fit, offsets, template=None, needed=None, power=None):
+        asked.append((needed - fit.confidence, power))
+        return None
+
+    monkeypatch.setattr(tracker.fitter, "refine", recording_refine)
+    stage = tracker._local
+    for opening in (True, False):
+        stage.run(fit, tracker.state, opening)
+    monkeypatch.setattr(local_module, "OPENING_ABOVE", fit.confidence + 1e-6)
+    stage.run(fit, tracker.state, True)
+    looser = (pytest.approx(local_module.OPENING_GAIN), local_module.OPENING_HOLD_POWER)
+    usual = (pytest.approx(local_module.REFINE_GAIN), refine_module.HOLD_POWER)
+    assert asked == [looser, usual, usual]
+    assert refine_module.hold(0.8, local_module.OPENING_HOLD_POWER) < refine_module.hold(0.8)
+
+
 def test_a_trial_fit_is_one_short_descent(monkeypatch):
     """A trial start (taken only if it beats a fit already made, from that fit's pose) is
     fitted coarse to fine once, with at most TRIAL_ITERATIONS at the finest level and no

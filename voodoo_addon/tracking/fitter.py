@@ -22,7 +22,7 @@ from .level import Level
 from .norms import RobustNorm
 from .params import ParamLayout, node_positions
 from .pictures import FramePictures, base_level, detail_for, doll_fine_contrast
-from .refine import LocalRefiner
+from .refine import HOLD_POWER, LocalRefiner
 from .warp import WarpBackend
 
 #: Coarse grid search around each seed pose, coarsest-level pixels.
@@ -363,14 +363,22 @@ class CoarseToFineFitter:
         step.solver(self.active(step.index))  # may build a basis (which binds the template)
         return step.bind(images[step.index], origin)
 
-    def refine(self, fit: Fit, offsets: np.ndarray, template=None, needed=None):
+    def refine(self, fit: Fit, offsets: np.ndarray, template=None, needed=None, power=HOLD_POWER):
         """The local stage from ``offsets`` (m, 2) on a fit's frame (see :mod:`.refine`).
 
-        Returns (offsets, quality, evaluation), or None when nothing could be compared (or
-        the offsets cannot reach the confidence ``needed``).
+        ``power``: how the hold on the offsets grows with the fit's confidence
+        (:func:`.refine.hold`). Returns (offsets, quality, evaluation), or None when nothing
+        could be compared (or the offsets cannot reach the confidence ``needed``).
         """
         return self.refiner.run(
-            fit.params, fit.confidence, fit.pictures, offsets, template, fit.covered, needed
+            fit.params,
+            fit.confidence,
+            fit.pictures,
+            offsets,
+            template,
+            fit.covered,
+            needed,
+            power,
         )
 
     def glance(self, fit: Fit, a: np.ndarray) -> float:

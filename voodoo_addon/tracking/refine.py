@@ -47,14 +47,15 @@ JUDGED_AFTER = 2
 STILL_TO_GAIN = 0.03
 
 
-def hold(confidence: float) -> float:
+def hold(confidence: float, power: float = HOLD_POWER) -> float:
     """How firmly the offsets are held, given how well the modes alone fit.
 
     Where the modes explain the frame (their confidence is high), local freedom only fits
-    noise; where they fall short (a crumple), the nodes get the freedom to follow.
+    noise; where they fall short (a crumple), the nodes get the freedom to follow. ``power``
+    below :data:`HOLD_POWER` holds them less firmly at the same confidence.
     """
     c = min(max(confidence, 0.05), 0.95)
-    return (c / (1.0 - c)) ** HOLD_POWER
+    return (c / (1.0 - c)) ** power
 
 
 def graph_laplacian(n_nodes: int, triangles: np.ndarray) -> np.ndarray:
@@ -161,7 +162,17 @@ class LocalRefiner:
         )
         return hess.reshape(2 * m, 2 * m), grad.ravel()
 
-    def run(self, a, confidence, pictures, offsets, template=None, covered=None, needed=None):
+    def run(
+        self,
+        a,
+        confidence,
+        pictures,
+        offsets,
+        template=None,
+        covered=None,
+        needed=None,
+        power=HOLD_POWER,
+    ):
         """Refine the node offsets on a fit's frame, from ``offsets`` (m, 2).
 
         Parameters
@@ -181,6 +192,8 @@ class LocalRefiner:
         needed : float, optional
             The confidence below which the caller will not keep the offsets: a run that
             is still far from it after :data:`JUDGED_AFTER` steps stops there (None).
+        power : float
+            How the hold on the offsets grows with ``confidence`` (see :func:`hold`).
 
         Returns
         -------
@@ -188,7 +201,7 @@ class LocalRefiner:
         """
         images, origin = pictures
         step, level = self.step_, self.level
-        held = hold(confidence)
+        held = hold(confidence, power)
         org, box = step.bind(images[step.index], origin)
         image = images[step.index]
         plain = images.judged(step.index)  # what the confidence is measured on, if not image

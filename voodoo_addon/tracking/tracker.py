@@ -348,7 +348,7 @@ class Tracker:
         kept = self._local.offsets
         refined = None
         if fit.quality is not None and (not was_lost or fit.in_view >= opt.lost_below):
-            refined = self._local.run(fit, self.state)
+            refined = self._local.run(fit, self.state, self._hidden.returning)
         if refined is not None and self._found(fit, refined[0]):
             quality, visible, ev = refined
             conf = quality.in_view
