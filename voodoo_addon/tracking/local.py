@@ -28,10 +28,13 @@ REFINE_GAIN = 0.05
 #: modes cannot bend to: there, when the modal fit explains the doll at least
 #: :data:`OPENING_ABOVE`, the offsets are kept when they gain :data:`OPENING_GAIN`, and held
 #: with :data:`OPENING_HOLD_POWER` instead of the usual power (see ``refine.hold``). On
-#: ``samples/folds/tail_turn`` a minute after its tail came back (frames 59-63), offsets
-#: started from the renderer's nodes stayed 0.6-1.0 px from them at a higher confidence
+#: ``samples/folds/tail_turn`` a few frames after its tail came back (frames 59-63), offsets
+#: started from the renderer's nodes stayed 0.6-1.2 px from them at a higher confidence
 #: than the local stage reached from the last frame's (1.2-2.1 px, gaining 0.02-0.05 on the
 #: modes alone): the comparison was right, the offsets were held too firmly to get there.
+#: The bar on the modal fit keeps the looser offsets from a doll that came back in the
+#: wrong place, which they would hold there (BENCHMARKS.md, *A part just back held less
+#: firmly while it opens*).
 OPENING_ABOVE = 0.7
 OPENING_GAIN = 0.03
 OPENING_HOLD_POWER = 0.5
