@@ -387,7 +387,10 @@ def test_a_part_just_back_is_fitted_again_with_what_it_leaves_out_held_where_it_
     on frames 64-67 (NumPy 1.26 and 2.3). Fitted again from its own pose with that strip held
     there (``Tracker._follow_on``, in the first frames after a part was out of view), it
     comes in sooner: 0.6-1.5 px off on those frames, and under a pixel from frame 68 on both
-    lines."""
+    lines. Measured before a part just back got looser offsets (``local.OPENING_ABOVE``),
+    which the test leaves out: with them, NumPy 2.3 keeps frames 61-68 at 1.3-1.8 px and is
+    first under a pixel on frame 69 instead of 67 (NumPy 1.26 on frame 66 either way)."""
+    monkeypatch.setattr(local, "OPENING_ABOVE", 2.0)
     clip = next(c for c in HELD_OUT if c.name == "plush_flip")
     err, lost, _ = _tracked(clip, 74)
     assert not lost.any()
