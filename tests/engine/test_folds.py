@@ -585,6 +585,71 @@ def test_a_part_is_remembered_away_until_the_doll_is_lost(foam):
     assert not part.away and np.array_equal(part.triangles, ~half)
 
 
+def test_the_part_out_of_view_counts_on_the_picture_only_where_it_lands_there(foam):
+    """``HiddenPart.on_picture``: the share of the textured doll, out of view in the last
+    frame, whose triangles land on the picture at the nodes given; 0 with no such part."""
+    _, _, blob = foam
+    tracker = Tracker(blob)
+    share = tracker.fitter.quality.triangle_share
+    assert share.sum() == pytest.approx(1.0) and (share >= 0).all()
+    part = hidden.HiddenPart(blob.vertices, blob.triangles, share)
+    nodes = blob.vertices
+    assert part.on_picture(nodes, SIZE) == 0.0  # nothing out of view
+    kept = blob.vertices[blob.triangles].mean(axis=1)[:, 0] < blob.centre[0]  # left half
+    part.remember(hidden.RETURN_BELOW - 0.2, kept)
+    assert part.on_picture(nodes, SIZE) == pytest.approx(share[~kept].sum())
+    # The doll moved so that its right half is off the picture: that half cannot come back.
+    off = nodes + [SIZE[0] - blob.centre[0] + 2.0, 0.0]
+    assert part.on_picture(off, SIZE) == 0.0
+    # Without weights every triangle weighs the same.
+    even = hidden.HiddenPart(blob.vertices, blob.triangles)
+    even.remember(hidden.RETURN_BELOW - 0.2, kept)
+    assert even.on_picture(nodes, SIZE) == pytest.approx(np.mean(~kept))
+
+
+def test_no_rest_shape_fit_is_made_for_a_part_that_is_off_the_picture(foam, monkeypatch):
+    """A doll sliding half out of the frame has a large part out of view, but no shape
+    brings what is off the picture back into view: the fit from the rest shape (the *back*
+    trial) is not made for it. A part folded away on the picture still gets it."""
+    scene, rest, blob = foam
+    starts = []
+    fit = Tracker._fit
+
+    def spy(self, frame, seeds, *args, **kwargs):
+        starts.append(seeds[0])
+        return fit(self, frame, seeds, *args, **kwargs)
+
+    monkeypatch.setattr(Tracker, "_fit", spy)
+
+    def rest_trials(tracker):
+        return sum(
+            np.array_equal(s[tracker.layout.modes], np.zeros(tracker.layout.n_modes))
+            and not np.array_equal(s, tracker.state)
+            for s in starts
+        )
+
+    tracker = Tracker(blob)
+    gone = SIZE[0] - scene.centre[0]  # the doll's centre reaches the right edge
+    for tx in np.linspace(0.0, gone, 12):
+        res = tracker.track(scene.render(Pose(tx=tx), noise=0.01, rng=np.random.default_rng(2)))
+        assert not res.lost
+    assert tracker._hidden.triangles is not None  # a large part is out of view...
+    assert tracker._hidden.on_picture(tracker.nodes(tracker.state), SIZE) < hidden.RETURN_GAIN
+    starts.clear()
+    for _ in range(3):
+        res = tracker.track(scene.render(Pose(tx=gone), noise=0.01, rng=np.random.default_rng(3)))
+        assert not res.lost and res.confidence < tracker.options.refine_below
+    assert rest_trials(tracker) == 0  # ...but off the picture
+    # Folded away on the picture, the part gets the trial.
+    tracker = Tracker(blob)
+    for a in list(np.linspace(0.0, 0.95, 8)) + [0.95] * 2:
+        tracker.track(squash_right(rest, scene.centre, scene.length, a))
+    assert tracker._hidden.on_picture(tracker.nodes(tracker.state), SIZE) >= hidden.RETURN_GAIN
+    starts.clear()
+    tracker.track(squash_right(rest, scene.centre, scene.length, 0.95))
+    assert rest_trials(tracker) >= 1
+
+
 def test_the_shown_fit_is_made_only_when_the_kept_part_fits_well_and_much_is_left_out():
     def fit(in_view, seen, share, left_out=0.3):
         q = Quality(in_view, in_view, seen, 1.0, in_view, share, left_out_correlation=left_out)

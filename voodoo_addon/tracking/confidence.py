@@ -129,6 +129,12 @@ class QualityMeter:
         # The chroma of each triangle: its mean colour minus its grey, (t, c).
         self._chroma_t = _chroma(mean.reshape(self.n_tri, self.channels))
 
+    @property
+    def triangle_share(self) -> np.ndarray:
+        """(t,) float64: each triangle's share of the textured blob (summing to 1, or 0)."""
+        w = self.weight.reshape(self.n_tri, self.channels).sum(axis=1)
+        return w / self.total if self.total > 0 else w
+
     def _stats(self, w, x):
         count = np.bincount(self.key, weights=w, minlength=self.size)
         s = np.bincount(self.key, weights=w * x, minlength=self.size)

@@ -39,7 +39,9 @@ what the tracker remembers of it from frame to frame, and the seven more fits it
   (:func:`at_rest`) is taken when it brings that part back into view
   (:func:`returned`): a folded part comes back near its rest shape far more often than in
   the shape it was last seen in. It is refined at full resolution only when its coarse
-  levels already explain the doll nearly as well as the fit at hand (:data:`RETURN_SLACK`);
+  levels already explain the doll nearly as well as the fit at hand (:data:`RETURN_SLACK`),
+  and made only while at least :data:`RETURN_GAIN` of the part out of view lies on the
+  picture (:meth:`HiddenPart.on_picture`): a doll leaving the frame brings nothing back;
 - *the way back*: a doll that turns or folds a part away mostly brings it back through
   the shapes it went away through. :class:`WayOut` keeps the poses of the frames before a
   large part went out of view; while it is out, a poor fit is compared with the few of
@@ -136,10 +138,16 @@ class HiddenPart:
     vertices : (m, 2) float64
         The blob's rest nodes.
     triangles : (t, 3) int
+    share : (t,) float64, optional
+        Each triangle's share of the textured doll (``QualityMeter.triangle_share``); by
+        default all triangles alike.
     """
 
-    def __init__(self, vertices: np.ndarray, triangles: np.ndarray):
+    def __init__(self, vertices: np.ndarray, triangles: np.ndarray, share=None):
         self.centroids = vertices[triangles].mean(axis=1)
+        self._corners = np.asarray(triangles)
+        t = len(triangles)
+        self._share = np.full(t, 1.0 / max(t, 1)) if share is None else np.asarray(share)
         self._neighbours = _edge_neighbours(triangles)
         #: (t,) bool: the triangles out of view in the last frame the doll was found in,
         #: when they were a large part of it; None otherwise.
@@ -190,6 +198,20 @@ class HiddenPart:
         else:
             self.triangles = None
             self._back_for += 1
+
+    def on_picture(self, nodes: np.ndarray, size) -> float:
+        """The share of the textured doll out of view in the last frame now on the picture.
+
+        ``nodes`` (m, 2): the mesh in frame pixels; ``size``: the frame's (w, h). 0 when no
+        large part was out of view. A part off the picture -- a doll leaving the frame --
+        no fit can bring back into view (a triangle counts where its centroid lands).
+        """
+        if self.triangles is None:
+            return 0.0
+        c = nodes[self._corners].mean(axis=1)
+        w, h = size
+        on = (c[:, 0] >= 0) & (c[:, 0] < w) & (c[:, 1] >= 0) & (c[:, 1] < h)
+        return float(self._share[self.triangles & on].sum())
 
     def covered(self, quality) -> np.ndarray | None:
         """The triangles to leave out in the *still hidden* fit of a frame (None: none).
