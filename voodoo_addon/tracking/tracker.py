@@ -25,6 +25,7 @@ from .hidden import (
     RETURN_GAIN,
     RETURN_SLACK,
     SETTLE_BELOW,
+    SETTLE_GAIN,
     SETTLE_GLANCE,
     HiddenPart,
     WayOut,
@@ -577,16 +578,21 @@ class Tracker:
         0.90-0.91. Made only when that shape glances within :data:`~.hidden.SETTLE_GLANCE` of
         the fit: on the real bag clip, whose hands cover a quarter of it now and then, it
         glances 0.15-0.36 below and the trial, made on most frames after the first cover,
-        cost 44% more iterations. Its coarse levels must glance :data:`AGAIN_GAIN` less
-        :data:`~.hidden.RETURN_SLACK` above the fit to go on; taken when :data:`AGAIN_GAIN`
-        surer, as a search made again must be. (fit, iterations).
+        cost 44% more iterations. Taken when :data:`~.hidden.SETTLE_GAIN` surer, or in the
+        first frames after the part came back (``HiddenPart.returning``), when it may still
+        be opening, :data:`AGAIN_GAIN` surer, as a search made again must be: with the lower
+        bar there ``plush_nod`` redrawn (seed 1) settled at rest on frame 60 while its top was
+        still opening, 7-10 px off on frames 61-63 where it had been 1.2-2.6. Its coarse
+        levels must glance the gain less :data:`~.hidden.RETURN_SLACK` above the fit to go
+        on. (fit, iterations).
         """
         rest = at_rest(fit.params, self.layout, self.frozen)
         if np.array_equal(rest, fit.params) or fit.pictures is None:
             return fit, its
         if self.fitter.glance(fit, rest) < fit.confidence - SETTLE_GLANCE:
             return fit, its
-        return self._tried_again(frame, fit, its, rest)
+        gain = AGAIN_GAIN if self._hidden.returning else SETTLE_GAIN
+        return self._tried_again(frame, fit, its, rest, gain)
 
     def _held_in_part(self, frame, held: Fit, template, its: int):
         """The pose held still, judged on the part in view when the whole doll loses it.
@@ -668,15 +674,15 @@ class Tracker:
             return fit, its
         return self._tried_again(frame, fit, its, home)
 
-    def _tried_again(self, frame, fit: Fit, its: int, start):
-        """A trial from ``start``, taken when :data:`AGAIN_GAIN` surer than ``fit``.
+    def _tried_again(self, frame, fit: Fit, its: int, start, gain: float = AGAIN_GAIN):
+        """A trial from ``start``, taken when ``gain`` surer than ``fit``.
 
-        Its coarse levels must glance :data:`AGAIN_GAIN` less :data:`~.hidden.RETURN_SLACK`
-        above the fit to go on. (fit, iterations).
+        Its coarse levels must glance ``gain`` less :data:`~.hidden.RETURN_SLACK` above the
+        fit to go on. (fit, iterations).
         """
-        worth = fit.confidence + AGAIN_GAIN - RETURN_SLACK
+        worth = fit.confidence + gain - RETURN_SLACK
         trial = self._fit(frame, [start], trial=True, worth=worth)
-        return self._kept(fit, trial, its, trial.confidence > fit.confidence + AGAIN_GAIN)
+        return self._kept(fit, trial, its, trial.confidence > fit.confidence + gain)
 
     def _capture_pose(self) -> np.ndarray:
         """Where and how the doll was captured, at rest: a lost doll is looked for there too.
