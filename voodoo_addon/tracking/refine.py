@@ -51,8 +51,9 @@ def hold(confidence: float, power: float = HOLD_POWER) -> float:
     """How firmly the offsets are held, given how well the modes alone fit.
 
     Where the modes explain the frame (their confidence is high), local freedom only fits
-    noise; where they fall short (a crumple), the nodes get the freedom to follow. ``power``
-    below :data:`HOLD_POWER` holds them less firmly at the same confidence.
+    noise; where they fall short (a crumple), the nodes get the freedom to follow. A
+    ``power`` below :data:`HOLD_POWER` moves the hold towards 1: less firm above a
+    confidence of 0.5 (where the local stage's *opening* rule uses it), firmer below.
     """
     c = min(max(confidence, 0.05), 0.95)
     return (c / (1.0 - c)) ** power
