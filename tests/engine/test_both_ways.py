@@ -23,6 +23,7 @@ from voodoo_addon.errors import VoodooError
 from voodoo_addon.media.sources import ArraySource
 from voodoo_addon.takes.both_ways import (
     FADE,
+    TIE,
     backward_frames,
     backward_share,
     found_again,
@@ -116,6 +117,16 @@ def test_a_part_just_found_again_is_counted_in_each_pass_s_own_direction_of_time
     backward[:5] = 0.5
     np.testing.assert_array_equal(found_again(take), forward)
     np.testing.assert_array_equal(found_again(take, backward=True), backward)
+
+
+def test_passes_about_as_sure_are_mixed_in_proportion():
+    """Equal scores mix the two passes half and half; a backward pass a quarter of
+    :data:`TIE` surer weighs five eighths; one :data:`TIE` surer or more is taken as it is."""
+    fwd = _take(np.zeros(T), 0.8)
+    for gap, weight in ((0.0, 0.5), (TIE / 4, 0.625), (TIE, 1.0), (0.2, 1.0)):
+        both = merge(fwd, _take(np.full(T, 8.0), 0.8 + gap))
+        np.testing.assert_allclose(both.params[:, 0], np.full(T, 8.0 * weight))
+        np.testing.assert_allclose(both.vertices[:, :, 0], np.full((T, M), 8.0 * weight))
 
 
 def test_two_equal_passes_merge_to_themselves():

@@ -10,6 +10,10 @@ follows it from where it is well seen. Each pass is better on other frames, so
 - the confidences are compared averaged over :data:`WINDOW` frames (one frame's confidence
   is noisy, and a pass picked for one frame only would flicker), each less a doubt on a
   part the pass has just found again (:data:`AGAIN_DOUBT`);
+- where the two scores lie within :data:`TIE` of each other the passes are mixed instead,
+  in proportion (half and half at equal scores): a few hundredths of confidence do not
+  tell which pass is nearer, and the mean of the two is no further off than they are on
+  average;
 - a change from one pass to the other is spread over :data:`FADE` frames (the nodes and the
   parameters crossfade), so the mode values stay continuous where the two passes disagree;
 - where one pass lost the doll and the other did not, the other is taken as it is.
@@ -39,6 +43,12 @@ from .take import Take
 WINDOW = 5
 #: Frames a change from one pass to the other is spread over.
 FADE = 5
+#: Where the two passes' scores lie within this of each other, neither is picked: they are
+#: mixed, half and half at equal scores, all of the surer one at this far apart. Scores a
+#: few hundredths apart say little about which pass is nearer the doll (both following a
+#: plush's returned half at 0.96-0.97, the backward one 1.5 px off, the forward one
+#: 0.7-1.4), and the mean of two poses is never further off than the two are on average.
+TIE = 0.05
 #: A part a pass has just found again, after a fold or a turn, is placed worse than by a
 #: pass that followed it as it left view, though its confidence may be as high: the whole
 #: doll's quality hardly falls for a part a few pixels off (sheet_foldover's flap: 0.87-0.98
@@ -202,15 +212,16 @@ def backward_share(forward: Take, backward: Take) -> np.ndarray:
 
     Each pass's confidence less :data:`AGAIN_DOUBT` times the share of the doll it has just
     found again (:func:`found_again`; a lost frame counts -1) is averaged over
-    :data:`WINDOW` frames. The weight is 1 where the backward pass scores higher, 0 where
-    the forward one does, crossfaded over :data:`FADE` frames between; exactly 0 or 1 where
-    one pass lost the doll and the other did not.
+    :data:`WINDOW` frames. The weight is 1 where the backward pass scores :data:`TIE` or
+    more higher, 0 where the forward one does, in proportion between (a half at equal
+    scores), and crossfaded over :data:`FADE` frames; exactly 0 or 1 where one pass lost the
+    doll and the other did not.
     """
     doubt_f = AGAIN_DOUBT * found_again(forward)
     doubt_b = AGAIN_DOUBT * found_again(backward, backward=True)
     score_f = _mean(np.where(forward.lost, -1.0, forward.confidence - doubt_f), WINDOW)
     score_b = _mean(np.where(backward.lost, -1.0, backward.confidence - doubt_b), WINDOW)
-    share = _mean((score_b > score_f).astype(np.float64), FADE)
+    share = _mean(np.clip(0.5 + (score_b - score_f) / (2.0 * TIE), 0.0, 1.0), FADE)
     share = np.where(forward.lost & ~backward.lost, 1.0, share)
     return np.where(backward.lost & ~forward.lost, 0.0, share)
 
