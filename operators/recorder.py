@@ -57,8 +57,9 @@ class Recorder:
         last one, from its last pose, and the take grows (e.g. after reopening the file).
     both_ways : bool
         When the take is kept, track the clip's frames again backwards from its end and
-        keep, frame by frame, the surer pass (:mod:`voodoo_addon.takes.both_ways`); a
-        camera's take is tracked backwards on its footage, every frame the camera gave.
+        keep, frame by frame, the surer pass, or a mix of the two where they are about as
+        sure (:mod:`voodoo_addon.takes.both_ways`); a camera's take is tracked backwards on
+        its footage, every frame the camera gave.
 
     Raises
     ------
