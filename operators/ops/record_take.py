@@ -17,8 +17,9 @@ class VOODOO_OT_record_take(TakeLoop, bpy.types.Operator):
         name="Both Ways",
         description=(
             "When the take ends, track it again backwards from its end (the clip, or the "
-            "camera's footage) and keep, frame by frame, the surer pass: parts that fold or "
-            "turn away and come back are found sooner"
+            "camera's footage) and keep, frame by frame, the surer pass (mixing the two where "
+            "they are about as sure): parts that fold or turn away and come back are found "
+            "sooner"
         ),
     )
 

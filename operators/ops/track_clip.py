@@ -24,8 +24,8 @@ class VOODOO_OT_track_clip(TakeLoop, bpy.types.Operator):
         name="Both Ways",
         description=(
             "Then track the clip again backwards from the end and keep, frame by frame, the "
-            "surer pass: parts that fold or turn away and come back are found sooner (twice "
-            "the time)"
+            "surer pass (mixing the two where they are about as sure): parts that fold or "
+            "turn away and come back are found sooner (twice the time)"
         ),
     )
 
