@@ -22,6 +22,8 @@ from voodoo_addon.devtools.folds import (
     RETURNED,
     fold_clips,
     nearest_modal,
+    nearest_modal_params,
+    nearest_unfolded_params,
     open_fold_clip,
     run_fold_clip,
 )
@@ -30,6 +32,7 @@ from voodoo_addon.media.images import to_float_rgb
 from voodoo_addon.tracking import Tracker, TrackerOptions, hidden, local, tracker
 from voodoo_addon.tracking.confidence import Quality
 from voodoo_addon.tracking.fitter import Fit
+from voodoo_addon.tracking.folding import BACKOFF, FoldGuard
 from voodoo_addon.tracking.params import ParamLayout, node_positions
 from voodoo_addon.tracking.pictures import detail_for
 from voodoo_addon.tracking.quality import folded_triangles
@@ -800,6 +803,43 @@ def test_the_nearest_modal_shape_is_the_shape_itself_when_the_modes_hold_it(foam
     for i in range(2):
         assert np.abs(got[i] - meshes[i]).max() < 1e-3
     np.testing.assert_array_equal(got[2], got[1])
+
+
+def test_the_truth_the_probe_starts_from_folds_nothing(foam):
+    """The probe's truth: where the nearest modal shape folds (here a shape bent past the
+    fold guard's bounds, every node seen), the shape it starts from is within the bounds
+    and nearer the seen nodes than that shape pulled back towards rest; where the nearest
+    shape folds nothing, it is that shape."""
+    _, _, blob = foam
+    layout = ParamLayout(tuple(str(n) for n in blob.labels))
+    guard = FoldGuard(blob.vertices, blob.triangles, blob.modes[:, : layout.n_modes])
+    rng = np.random.default_rng(5)
+    way = rng.normal(0.0, 1.0, layout.n_modes)
+    way *= 200.0 / np.linalg.norm(way)
+    edge = guard.max_step(np.zeros(layout.n_modes), way) / BACKOFF
+    assert edge < 1.0
+    params = []
+    for amount in (0.5 * edge, 1.3 * edge):
+        a = layout.identity()
+        a[:4] = (4.0, -3.0, 0.2, 0.1)
+        a[layout.modes] = amount * way
+        params.append(a)
+    assert guard.valid(params[0][layout.modes]) and not guard.valid(params[1][layout.modes])
+    meshes = [node_positions(a, layout, blob.vertices, blob.modes, blob.centre) for a in params]
+    truth = _Shapes(meshes, np.ones((2, blob.n_nodes), bool))
+    near = nearest_modal_params(blob, truth, layout)
+    got = nearest_unfolded_params(blob, truth, layout)
+    assert not guard.valid(near[1][layout.modes])  # the nearest shape is the folded one
+    np.testing.assert_array_equal(got[0], near[0])
+    assert guard.valid(got[1][layout.modes])
+
+    def off(a):
+        nodes = node_positions(a, layout, blob.vertices, blob.modes, blob.centre)
+        return np.linalg.norm(nodes - meshes[1], axis=1).mean()
+
+    pulled = near[1].copy()
+    pulled[layout.modes] = guard.clamp(near[1][layout.modes])
+    assert off(got[1]) < 0.5 * off(pulled)
 
 
 def test_the_fold_clips_are_there():

@@ -44,6 +44,7 @@ from scipy.optimize import least_squares
 
 from ..blob.build import build_blob
 from ..media.images import to_float_rgb
+from ..tracking.folding import FoldGuard
 from ..tracking.params import ParamLayout, node_positions, similarity_from_matrix
 from ..tracking.proposals import PointFit
 from ..tracking.quality import score_track
@@ -277,6 +278,60 @@ def nearest_modal_params(blob, truth: LatticeTruth, layout) -> np.ndarray:
                 a = start.copy()
                 a[:stop] = least_squares(misfit, start[:stop], method="lm").x
         out.append(a.copy())
+    return np.array(out)
+
+
+#: The never-folding shape's barrier keeps each triangle's area this many times above the
+#: fold guard's least (see :func:`nearest_unfolded_params`), so that it ends within bounds.
+UNFOLDED_MARGIN = 1.4
+#: How hard the barrier pushes, in pixels of node misfit per unit of area ratio.
+UNFOLDED_BARRIER = 300.0
+
+
+def nearest_unfolded_params(blob, truth: LatticeTruth, layout) -> np.ndarray:
+    """Per frame, the parameters (T, P) of :func:`nearest_modal_params` that fold nothing.
+
+    The nearest modal shape is fitted to the seen nodes alone, so where part of the doll is
+    out of view the modes may put that part anywhere: over a turned-away half it folds
+    dozens of triangles (``plush_flip`` frames 31-49, areas down to -16 times their rest
+    area). The tracker never takes such a shape (``tracking.folding``), and the fitter pulls
+    one back towards rest before starting from it, far from the truth (18-28 px there).
+    Where the nearest shape leaves a triangle outside the fold guard's bounds, the modes
+    are fitted to the seen nodes again with those bounds as a barrier
+    (:data:`UNFOLDED_MARGIN`, :data:`UNFOLDED_BARRIER`), from the nearest shape pulled back
+    within them and from the last frame's shape, whichever ends nearer; a result still
+    outside them is pulled back too. The similarity and lighting stay the nearest shape's.
+    """
+    guard = FoldGuard(blob.vertices, blob.triangles, blob.modes[:, : layout.n_modes])
+    fit = PointFit(blob, layout, blob.vertices)
+    modes, stop = layout.modes, layout.modes.stop
+    low, high = UNFOLDED_MARGIN * guard.low / guard.rest, guard.high / guard.rest / UNFOLDED_MARGIN
+    out, last = [], None
+    for i, near in enumerate(nearest_modal_params(blob, truth, layout)):
+        a = near.copy()
+        if not guard.valid(a[modes]):
+            nodes, seen = truth(i, blob.vertices)
+            idx = np.flatnonzero(seen)
+
+            def misfit(p, idx=idx, target=nodes[idx], base=near):
+                full = base.copy()
+                full[:stop] = p
+                r = guard.ratios(full[modes])
+                bounds = np.concatenate([np.maximum(0.0, low - r), np.maximum(0.0, r - high)])
+                return np.concatenate(
+                    [(fit.positions(full)[idx] - target).ravel(), UNFOLDED_BARRIER * bounds]
+                )
+
+            best = None
+            for start in [guard.clamp(near[modes])] + ([] if last is None else [last[modes]]):
+                x0 = near[:stop].copy()
+                x0[modes] = start
+                got = least_squares(misfit, x0, method="trf")
+                best = got if best is None or got.cost < best.cost else best
+            a[:stop] = best.x
+            a[modes] = guard.clamp(a[modes])
+        out.append(a)
+        last = a
     return np.array(out)
 
 

@@ -1,10 +1,12 @@
 """Whose fault a fold clip's error is: the objective's, or the search's.
 
 On a fold render the renderer knows where the doll is. For each frame asked about, the
-tracker's pose and the pose nearest the renderer's truth that the modes can take
-(:func:`.folds.nearest_modal_params`) are both judged on the frame the way the tracker
-judges its own fits (:meth:`~voodoo_addon.tracking.fitter.CoarseToFineFitter.hold`: the
-quality and the robust residual, against the look the tracker compared that frame with,
+tracker's pose and the pose nearest the renderer's truth that the modes can take without
+folding (:func:`.folds.nearest_unfolded_params`: the tracker never takes a folded shape,
+and a part out of view left free by the seen nodes often folds) are both judged on the
+frame the way the tracker judges its own fits
+(:meth:`~voodoo_addon.tracking.fitter.CoarseToFineFitter.hold`: the quality and the robust
+residual, against the look the tracker compared that frame with,
 :attr:`~voodoo_addon.tracking.Tracker.appearance`), and one more fit is started at the
 truth's pose. How to read a row:
 
@@ -27,7 +29,7 @@ import numpy as np
 from ..tracking import Tracker
 from .camera import CameraFaults, add_camera_arguments, chosen_camera
 from .clips import Clip
-from .folds import nearest_modal_params, open_fold_clip
+from .folds import nearest_unfolded_params, open_fold_clip
 
 
 def probe(clip: Clip, frames=None, camera: CameraFaults | None = None) -> list[dict]:
@@ -42,7 +44,7 @@ def probe(clip: Clip, frames=None, camera: CameraFaults | None = None) -> list[d
     """
     pictures, blob, truth = open_fold_clip(clip, camera)
     tracker = Tracker(blob)
-    poses = nearest_modal_params(blob, truth, tracker.layout)
+    poses = nearest_unfolded_params(blob, truth, tracker.layout)
     asked = set(range(len(pictures)) if frames is None else frames)
     zero = np.zeros_like(blob.vertices)
     fitter = tracker.fitter
