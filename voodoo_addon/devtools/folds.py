@@ -44,7 +44,7 @@ from scipy.optimize import least_squares
 
 from ..blob.build import build_blob
 from ..media.images import to_float_rgb
-from ..tracking.folding import FoldGuard
+from ..tracking.folding import MAX_AREA, MIN_AREA, FoldGuard
 from ..tracking.params import ParamLayout, node_positions, similarity_from_matrix
 from ..tracking.proposals import PointFit
 from ..tracking.quality import score_track
@@ -305,7 +305,7 @@ def nearest_unfolded_params(blob, truth: LatticeTruth, layout) -> np.ndarray:
     guard = FoldGuard(blob.vertices, blob.triangles, blob.modes[:, : layout.n_modes])
     fit = PointFit(blob, layout, blob.vertices)
     modes, stop = layout.modes, layout.modes.stop
-    low, high = UNFOLDED_MARGIN * guard.low / guard.rest, guard.high / guard.rest / UNFOLDED_MARGIN
+    low, high = UNFOLDED_MARGIN * MIN_AREA, MAX_AREA / UNFOLDED_MARGIN  # the guard's bounds
     out, last = [], None
     for i, near in enumerate(nearest_modal_params(blob, truth, layout)):
         a = near.copy()
