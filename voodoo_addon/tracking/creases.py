@@ -16,6 +16,9 @@ the pixels, the best then refined by the local stage on all of them. Once a crea
 taken, the next frames try only its own line (and lines beside it), so that a fold in
 progress is followed frame by frame. The offsets move the tracked mesh only, as the local
 stage's do: the similarity and the named modes are the modal fit's.
+
+The same press shows a part out of view where it is likely to be (:meth:`CreaseSearch.pressed`):
+turned away or folded under, it lies foreshortened towards its edge with the part in view.
 """
 
 from __future__ import annotations
@@ -37,6 +40,9 @@ NEAR_SHIFT = 0.1
 PROBE_PIXELS = 1500
 #: Candidates refined by the local stage.
 REFINED = 1
+#: Amounts the part out of view is pressed towards its edge by (see
+#: :meth:`CreaseSearch.pressed`).
+PRESSES = (-0.95, -0.7, -0.5, -0.3)
 
 
 class CreaseSearch:
@@ -57,6 +63,8 @@ class CreaseSearch:
         self.step = refiner.step_.on(self.probe)
         self.radius = float(blob.length)
         self.line = None  # (point, normal) of the last crease taken, rest frame
+        self._triangles = np.asarray(blob.triangles)
+        self._rest = blob.vertices - blob.centre
 
     def forget(self) -> None:
         self.line = None
@@ -116,4 +124,52 @@ class CreaseSearch:
             out = ref.run(a, 0.0, pictures, u, template, covered, needed)
             if out is not None and (best is None or out[1].value > best[1].value):
                 best = (*out, line)
+        return best
+
+    def pressed(self, a, pictures, offsets, away):
+        """The part out of view pressed towards its edge: (offsets, value) or None.
+
+        ``away`` (t,) bool: the triangles out of view in the last frame. A part turning
+        away about a line, or folding under, shows foreshortened towards that line; held
+        in the shape it was last seen in it hangs over whatever lies beyond. Two shapes of
+        that part are pressed along the normal of the line through its edge with the part
+        in view: as it is now, and at rest, carried by the part in view (an affine map of
+        the rest nodes of the part in view onto where they are). Each candidate is glanced
+        at (the quality meter's pixels, the whole doll).
+        """
+        tri = self._triangles
+        ref = self.refiner
+        m = len(offsets)
+        out = np.zeros(m, bool)
+        out[tri[away].ravel()] = True
+        kept = np.zeros(m, bool)
+        kept[tri[~away].ravel()] = True
+        edge = out & kept
+        beyond = out & ~kept
+        if np.count_nonzero(edge) < 2 or not beyond.any() or np.count_nonzero(kept) < 3:
+            return None
+        images, origin = pictures
+        step = ref.step_
+        org, box = step.bind(images[step.index], origin)
+        plain = images.judged(step.index)
+        turned = step.hidden(a)
+        shape = ref.bare(a) + offsets
+        ones = np.ones((m, 1))
+        lift = np.linalg.lstsq(np.hstack([self._rest, ones])[kept], shape[kept], rcond=None)[0]
+        attached = shape.copy()
+        attached[beyond] = (np.hstack([self._rest, ones]) @ lift)[beyond]
+        best = None
+        for base in (shape, attached):
+            p = base[edge].mean(axis=0)
+            along = np.linalg.svd(base[edge] - p)[2][0]
+            n = np.array([-along[1], along[0]])
+            if ((base[beyond] - p) @ n).mean() < 0:
+                n = -n
+            side = (np.maximum((base - p) @ n, 0.0) * beyond)[:, None] * n
+            for d in PRESSES:
+                move = (base - shape) + d * side
+                u = offsets + ref.guard.shape_step(shape, move) * move
+                v = ref.value(a, org, box, ref._nodes(a, u) * self.level.scale, turned, plain)
+                if best is None or v > best[1]:
+                    best = (u, v)
         return best

@@ -38,6 +38,9 @@ REFINE_GAIN = 0.05
 OPENING_ABOVE = 0.7
 OPENING_GAIN = 0.03
 OPENING_HOLD_POWER = 0.5
+#: The part out of view is shown pressed towards its edge (``CreaseSearch.pressed``) when
+#: that explains the doll at least this much better than the shape the fit left it in.
+PRESS_GAIN = 0.02
 #: A quality is at most 1, so above this the offsets could never gain :data:`REFINE_GAIN`:
 #: the local stage is not run (a frame that fits this well is common on clean footage).
 HOPELESS_ABOVE = 1.0 - REFINE_GAIN
@@ -72,6 +75,9 @@ class LocalStage:
     def reset(self) -> None:
         #: (m, 2) node offsets in the blob's rest frame, or None.
         self.offsets = None
+        #: The offsets of the mesh the frame's result shows: :attr:`offsets`, with the part
+        #: out of view pressed towards its edge (see :meth:`show`).
+        self.shown = None
         #: (n, 3) float32 appearance the next frame's finest level is compared with, or None
         #: for the blob's template.
         self.template = None
@@ -85,6 +91,7 @@ class LocalStage:
         forgotten and the next frame is compared with the blob's own template.
         """
         self.offsets = offsets
+        self.shown = offsets
         self.template = None
         self.fitter.creases.forget()
 
@@ -140,6 +147,27 @@ class LocalStage:
             return quality, visible, ev
         self.offsets, quality, ev, creases.line = found
         return quality, ev.triangle_weight > 0, ev
+
+    def show(self, fit, quality, away) -> None:
+        """The mesh this frame's result shows (:attr:`shown`), once the doll was found.
+
+        ``quality``: the frame's, with the local stage; ``away`` (t,) bool or None: the part
+        out of view in the last frame. Held in the shape it was last seen in, a part turned
+        away or folded under hangs over whatever lies beyond it, and comes back in view far
+        from where it shows; it is shown pressed towards its edge with the part in view
+        when that explains the doll :data:`PRESS_GAIN` better (``CreaseSearch.pressed``).
+        Only the mesh shown: the fits, the parameters and the offsets carried to the next
+        frame are left as they are. Carried on, the pressed part pulled the part in view
+        after it through the offsets' smoothness, and parts came back later
+        (BENCHMARKS.md, *The part out of view shown pressed towards its edge*).
+        """
+        self.shown = self.offsets
+        if away is None or fit.pictures is None:
+            return
+        base = np.zeros_like(self.fitter.blob.vertices) if self.offsets is None else self.offsets
+        found = self.fitter.creases.pressed(fit.params, fit.pictures, base, away)
+        if found is not None and found[1] >= quality.value + PRESS_GAIN:
+            self.shown = found[0]
 
     def kept_base(self, a: np.ndarray) -> np.ndarray | None:
         """The base offsets the fit started from, or None when there were none.

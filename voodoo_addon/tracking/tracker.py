@@ -356,6 +356,7 @@ class Tracker:
             quality, visible, ev = refined
             conf = quality.in_view
             self._local.adapt(ev, fit.params, quality.value)
+            self._local.show(fit, quality, self._hidden.triangles)
             a = fit.params
             self._last_residual = fit.residual
             self._prev = None if was_lost else self.state.copy()
@@ -379,7 +380,7 @@ class Tracker:
             self._stale = 0
             warnings.append("The blob is lost: holding its last good pose.")
         self.fitter.set_base(None)
-        nodes = self.nodes(params, self._local.offsets)
+        nodes = self.nodes(params, self._local.shown)
         self._previous = frame
         return TrackResult(
             params=params.copy(),
