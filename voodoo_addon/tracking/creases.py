@@ -154,10 +154,10 @@ class CreaseSearch:
         plain = images.judged(step.index)
         turned = step.hidden(a)
         shape = ref.bare(a) + offsets
-        ones = np.ones((m, 1))
-        lift = np.linalg.lstsq(np.hstack([self._rest, ones])[kept], shape[kept], rcond=None)[0]
+        rest = np.hstack([self._rest, np.ones((m, 1))])
+        lift = np.linalg.lstsq(rest[kept], shape[kept], rcond=None)[0]
         attached = shape.copy()
-        attached[beyond] = (np.hstack([self._rest, ones]) @ lift)[beyond]
+        attached[beyond] = rest[beyond] @ lift
         best = None
         for base in (shape, attached):
             p = base[edge].mean(axis=0)
