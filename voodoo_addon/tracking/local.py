@@ -162,8 +162,8 @@ class LocalStage:
         (BENCHMARKS.md, *The part out of view shown pressed towards its edge*).
         """
         self.shown = self.offsets
-        if away is None or fit.pictures is None:
-            return
+        if away is None or fit.pictures is None or quality.value > 1.0 - PRESS_GAIN:
+            return  # (a value is at most 1: no press could be shown)
         base = np.zeros_like(self.fitter.blob.vertices) if self.offsets is None else self.offsets
         found = self.fitter.creases.pressed(fit.params, fit.pictures, base, away)
         if found is not None and found[1] >= quality.value + PRESS_GAIN:
